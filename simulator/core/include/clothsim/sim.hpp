@@ -88,7 +88,20 @@ struct State {
   double max_penetration = 0.0;          ///< m, deepest any point was behind a collider so far
 };
 
-/// Scratch memory for step(); sized once from a Model.
+/// Scratch memory for step(); sized once from a Model (defined in step.hpp).
 struct Workspace;
+
+/// What one step() reports.
+struct StepStatus {
+  bool finite = true;  ///< false: a position or velocity became NaN/inf; the State is invalid
+};
+
+// --- the functions the runner and the viewer call (defined in the core library) ----------
+
+/// The state at t = 0: x = x0, v = 0.
+State make_state(const Model& model);
+
+/// Advances `state` by model.options.dt with model.options.integrator. Never allocates.
+StepStatus step(const Model& model, State& state, Workspace& ws);
 
 }  // namespace clothsim
