@@ -12,7 +12,7 @@ packages=(
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   libstb-dev nlohmann-json3-dev libcli11-dev
   # headless OpenGL (Mesa's llvmpipe under Xvfb)
-  xvfb xauth libgl1-mesa-dri mesa-utils
+  xvfb xauth x11-utils libgl1-mesa-dri mesa-utils
   # fuzzing and sanitizers (clang + libFuzzer), plots, OBJ test models
   clang libclang-rt-14-dev gnuplot-nox assimp-testmodels
   # time -v for the build-speed benchmark
