@@ -1,0 +1,41 @@
+// Builds a Model in code: cloths (positions, springs, pins) and colliders. The scene
+// adapter (clothsim_scene) uses it for baked scenes; tests use it for tiny inline scenes.
+#pragma once
+
+#include <clothsim/sim.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace clothsim {
+
+/// One spring between two masses of a cloth (local indices).
+struct SpringSpec {
+  std::uint32_t a = 0, b = 0;
+  std::uint8_t kind = 0;         ///< 0 structural (k_struct), 1 bend (k_bend)
+  double rest_length = -1.0;     ///< m; < 0: the distance between the rest positions
+};
+
+class ModelBuilder {
+ public:
+  explicit ModelBuilder(const Options& options, std::string scene_name = {});
+
+  /// Adds a cloth; positions is (3 x k). Throws std::invalid_argument on a bad index,
+  /// a spring joining a mass to itself or a non-finite position. Returns the cloth's index.
+  std::size_t add_cloth(const Eigen::Matrix3Xd& positions, std::span<const SpringSpec> springs,
+                        std::span<const std::uint32_t> pins, std::int32_t scene_cloth = -1);
+
+  void set_colliders(std::shared_ptr<const ColliderSet> colliders);
+
+  /// The finished Model (the builder is left empty).
+  Model build();
+
+ private:
+  Model model_;
+  std::vector<std::uint32_t> pin_list_;
+};
+
+}  // namespace clothsim

@@ -1,0 +1,49 @@
+// The force stage and the step's scratch memory, shared by every integrator.
+#pragma once
+
+#include <clothsim/sim.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace clothsim {
+
+/// Scratch memory for step(), sized once from a Model so that step() never allocates.
+struct Workspace {
+  Eigen::Matrix3Xd f;                        ///< (3 x n) total force at the current stage, N
+  Eigen::Matrix3Xd pinned_x;                 ///< (3 x p) positions of the pinned masses, saved per step
+  std::vector<std::uint32_t> pinned_index;   ///< (p) the pinned masses
+  std::vector<std::uint32_t> contact_hint;   ///< (n) collision hints (collider-specific cache)
+  Drag drag;                                 ///< the drag of the state being stepped
+  double last_penetration = 0.0;             ///< m, deepest point behind a collider in the last force stage
+  std::uint32_t last_contacts = 0;           ///< points inside a collider band in the last force stage
+};
+
+Workspace make_workspace(const Model& model);
+
+/// Total force on every mass at positions x and velocities v (report eqs. 2-5 plus the
+/// damping term of eq. 6, so that a = f / m):
+///   f = m g - gamma v + springs (eq. 4) + penalty (eq. 12, every collider) + drag.
+/// Writes f (3 x n, already sized); records the deepest penetration in ws. Never allocates.
+/// The user's drag is read from ws.drag (step() copies State::drag there).
+void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
+                    Eigen::Matrix3Xd& f, Workspace& ws);
+
+/// Adds the spring forces of report eq. 4 to f.
+void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f);
+
+/// 1/2 sum m |v|^2 over the free masses, J.
+double kinetic_energy(const Model& model, const State& state);
+
+/// Gershgorin bound on the highest angular frequency of the linearised system, rad/s:
+/// omega_max^2 <= 2 max_i (sum_j k_ij + k_contact) / m_i, with k_contact = k_rep when the
+/// model has colliders. Symplectic Euler is stable for dt < 2 / omega_max.
+double gershgorin_omega_max(const Model& model);
+
+/// A 64-bit FNV-1a hash of the bytes of x and v (for determinism tests).
+std::uint64_t state_hash(const State& state);
+
+/// Empty when the options are usable, else a one-line reason naming the option.
+std::string validate_options(const Options& options);
+
+}  // namespace clothsim

@@ -1,0 +1,77 @@
+#include <clothsim/model_builder.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace clothsim {
+
+ModelBuilder::ModelBuilder(const Options& options, std::string scene_name) {
+  model_.options = options;
+  model_.scene_name = std::move(scene_name);
+  model_.x0.resize(3, 0);
+}
+
+std::size_t ModelBuilder::add_cloth(const Eigen::Matrix3Xd& positions,
+                                    std::span<const SpringSpec> springs,
+                                    std::span<const std::uint32_t> pins, std::int32_t scene_cloth) {
+  const auto k = static_cast<std::uint32_t>(positions.cols());
+  const std::string which = "cloth " + std::to_string(model_.cloths.size());
+  if (!positions.allFinite()) throw std::invalid_argument(which + ": a rest position is not finite");
+  for (const auto& s : springs) {
+    if (s.a >= k || s.b >= k)
+      throw std::invalid_argument(which + ": spring " + std::to_string(s.a) + "-" + std::to_string(s.b) +
+                                  " names a mass >= " + std::to_string(k));
+    if (s.a == s.b) throw std::invalid_argument(which + ": spring joins mass " + std::to_string(s.a) + " to itself");
+    if (s.kind > 1) throw std::invalid_argument(which + ": spring kind must be 0 or 1");
+  }
+  for (auto p : pins)
+    if (p >= k) throw std::invalid_argument(which + ": pin " + std::to_string(p) + " names no mass");
+
+  ClothRange r;
+  r.first_mass = static_cast<std::uint32_t>(model_.x0.cols());
+  r.mass_count = k;
+  r.first_spring = static_cast<std::uint32_t>(model_.spring_a.size());
+  r.spring_count = static_cast<std::uint32_t>(springs.size());
+  r.scene_cloth = scene_cloth;
+
+  const Eigen::Index n0 = model_.x0.cols();
+  model_.x0.conservativeResize(3, n0 + k);
+  model_.x0.rightCols(k) = positions;
+  model_.pinned.resize(model_.pinned.size() + k, 0);
+  for (auto p : pins) model_.pinned[r.first_mass + p] = 1;
+
+  const Eigen::Index s0 = model_.rest_length0.size();
+  model_.rest_length0.conservativeResize(s0 + static_cast<Eigen::Index>(springs.size()));
+  model_.stiffness.conservativeResize(s0 + static_cast<Eigen::Index>(springs.size()));
+  Eigen::Index si = s0;
+  for (const auto& s : springs) {
+    model_.spring_a.push_back(r.first_mass + s.a);
+    model_.spring_b.push_back(r.first_mass + s.b);
+    model_.spring_kind.push_back(s.kind);
+    model_.rest_length0[si] =
+        s.rest_length >= 0.0 ? s.rest_length : (positions.col(s.a) - positions.col(s.b)).norm();
+    model_.stiffness[si] = s.kind == 0 ? model_.options.k_struct : model_.options.k_bend;
+    ++si;
+  }
+  model_.cloths.push_back(r);
+  return model_.cloths.size() - 1;
+}
+
+void ModelBuilder::set_colliders(std::shared_ptr<const ColliderSet> colliders) {
+  model_.colliders = std::move(colliders);
+}
+
+Model ModelBuilder::build() {
+  const Eigen::Index n = model_.x0.cols();
+  model_.mass = Eigen::VectorXd::Constant(n, model_.options.mass);
+  model_.inv_mass.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    model_.inv_mass[i] = model_.pinned[static_cast<std::size_t>(i)] ? 0.0 : 1.0 / model_.mass[i];
+  Model out = std::move(model_);
+  model_ = Model{};
+  model_.options = out.options;
+  model_.x0.resize(3, 0);
+  return out;
+}
+
+}  // namespace clothsim
