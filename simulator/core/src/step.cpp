@@ -96,21 +96,28 @@ void restore_pins(State& s, const Workspace& ws) {
 
 }  // namespace
 
-StepStatus step(const Model& model, State& state, Workspace& ws) {
+void step_symplectic_euler(const Model& model, State& state, Workspace& ws) {
   const double h = model.options.dt;
+  save_pins(state, ws);
+  state.x.noalias() += h * state.v;                    // eq. 1
+  compute_forces(model, state.x, state.v, ws.f, ws);   // eqs. 2-5 at x(t+h)
+  state.v.noalias() +=                                 // eqs. 6-7 (damping is in f)
+      h * (ws.f.array().rowwise() * model.inv_mass.transpose().array()).matrix();
+  restore_pins(state, ws);
+}
+
+StepStatus step(const Model& model, State& state, Workspace& ws) {
   ws.drag = state.drag;
   switch (model.options.integrator) {
-    case Integrator::SymplecticEuler: {
-      save_pins(state, ws);
-      state.x.noalias() += h * state.v;                          // eq. 1
-      compute_forces(model, state.x, state.v, ws.f, ws);         // eqs. 2-5 at x(t+h)
-      state.v.noalias() += h * (ws.f.array().rowwise() *         // eqs. 6-7
-                                model.inv_mass.transpose().array()).matrix();
-      restore_pins(state, ws);
+    case Integrator::SymplecticEuler:
+      step_symplectic_euler(model, state, ws);
       break;
-    }
+    default:
+      // An integrator this build does not implement: report it as a failed step
+      // rather than silently using another method.
+      return StepStatus{false};
   }
-  state.t += h;
+  state.t += model.options.dt;
   ++state.steps;
   state.max_penetration = std::max(state.max_penetration, ws.last_penetration);
   return StepStatus{all_finite(state)};

@@ -29,6 +29,9 @@ Workspace make_workspace(const Model& model);
 void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
                     Eigen::Matrix3Xd& f, Workspace& ws);
 
+/// One step of report eqs. 1-7 (no time bookkeeping; step() does that).
+void step_symplectic_euler(const Model& model, State& state, Workspace& ws);
+
 /// Adds the spring forces of report eq. 4 to f.
 void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f);
 

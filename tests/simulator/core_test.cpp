@@ -1,0 +1,291 @@
+// The core's physics against closed forms: springs, oscillator, free fall, chain, pins.
+#include "inline_scenes.hpp"
+
+#include <clothsim/step.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+namespace clothsim {
+namespace {
+
+Options no_gravity() {
+  Options o;
+  o.gravity.setZero();
+  o.damping = 0.0;
+  return o;
+}
+
+Model two_masses(const Options& o, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double rest,
+                 std::vector<std::uint32_t> pins = {}) {
+  ModelBuilder mb(o, "pair");
+  Eigen::Matrix3Xd x(3, 2);
+  x.col(0) = a;
+  x.col(1) = b;
+  const SpringSpec s{0, 1, 0, rest};
+  mb.add_cloth(x, std::span(&s, 1), pins);
+  return mb.build();
+}
+
+TEST(Springs, ForceMagnitudeAndDirectionStretched) {
+  const Options o = no_gravity();
+  const Eigen::Vector3d a(0.1, 0.2, 0.3), b(0.4, -0.2, 1.5);
+  const Model m = two_masses(o, a, b, 0.5);
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, 2);
+  add_spring_forces(m, m.x0, f);
+  const double len = (a - b).norm();
+  ASSERT_GT(len, 0.5);
+  // stretched: each end is pulled toward the other with k (len - rest)
+  EXPECT_NEAR(f.col(0).norm(), o.k_struct * (len - 0.5), 1e-12);
+  EXPECT_NEAR(f.col(0).normalized().dot((b - a).normalized()), 1.0, 1e-12);
+  EXPECT_NEAR((f.col(0) + f.col(1)).norm(), 0.0, 1e-12);
+}
+
+TEST(Springs, CompressedPushesApartAndBendUsesKBend) {
+  const Options o = no_gravity();
+  ModelBuilder mb(o);
+  Eigen::Matrix3Xd x(3, 2);
+  x << 0, 0.3, 0, 0, 0, 0;
+  const SpringSpec s{0, 1, 1, 1.0};  // a bend spring compressed to 0.3
+  mb.add_cloth(x, std::span(&s, 1), {});
+  const Model m = mb.build();
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, 2);
+  add_spring_forces(m, m.x0, f);
+  EXPECT_NEAR(f(0, 0), -o.k_bend * 0.7, 1e-12);
+  EXPECT_NEAR(f(0, 1), o.k_bend * 0.7, 1e-12);
+}
+
+TEST(Springs, RestLengthDefaultsToTheRestDistance) {
+  const Model m = test::grid_model(no_gravity(), 3, 3);
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, 9);
+  add_spring_forces(m, m.x0, f);
+  EXPECT_LT(f.cwiseAbs().maxCoeff(), 1e-12);
+}
+
+// One free mass on a spring to a pinned one, no gravity: the damped oscillator
+// u(t) = e^{-beta t} (u0 cos(wd t) + beta u0 / wd sin(wd t)), beta = gamma / 2m.
+double oscillator_error(double dt) {
+  Options o = no_gravity();
+  o.damping = 0.05;
+  o.dt = dt;
+  const double rest = 0.5, u0 = 0.05;
+  const Model m = two_masses(o, Eigen::Vector3d::Zero(), Eigen::Vector3d(rest + u0, 0, 0), rest, {0});
+  State s = make_state(m);
+  Workspace ws = make_workspace(m);
+  const double w0 = std::sqrt(o.k_struct / o.mass), beta = o.damping / (2 * o.mass);
+  const double wd = std::sqrt(w0 * w0 - beta * beta);
+  double err = 0.0;
+  const int n = static_cast<int>(std::lround(0.5 / dt));
+  for (int i = 0; i < n; ++i) {
+    EXPECT_TRUE(step(m, s, ws).finite);
+    const double t = s.t;
+    const double u = std::exp(-beta * t) * (u0 * std::cos(wd * t) + beta * u0 / wd * std::sin(wd * t));
+    err = std::max(err, std::abs((s.x(0, 1) - rest) - u));
+    EXPECT_EQ(s.x(1, 1), 0.0);
+  }
+  return err / u0;
+}
+
+TEST(Integrator, DampedOscillatorMatchesClosedFormToFirstOrder) {
+  const double e1 = oscillator_error(2e-4), e2 = oscillator_error(1e-4);
+  EXPECT_LT(e2, 1e-2);
+  // symplectic Euler is first order: halving dt about halves the error
+  EXPECT_GT(e1 / e2, 1.6);
+  EXPECT_LT(e1 / e2, 2.4);
+}
+
+TEST(Integrator, FreeFallFollowsTheSymplecticEulerRecurrence) {
+  Options o;
+  o.damping = 0.07;
+  o.dt = 0.01;
+  ModelBuilder mb(o);
+  Eigen::Matrix3Xd x(3, 1);
+  x << 0.25, 3.0, -1.0;
+  mb.add_cloth(x, {}, {});
+  const Model m = mb.build();
+  State s = make_state(m);
+  s.v.col(0) = Eigen::Vector3d(0.5, 2.0, 0.0);
+  Workspace ws = make_workspace(m);
+  Eigen::Vector3d xr = x.col(0), vr = s.v.col(0);
+  for (int i = 0; i < 300; ++i) {
+    ASSERT_TRUE(step(m, s, ws).finite);
+    xr = xr + o.dt * vr;                                   // eq. 1
+    const Eigen::Vector3d f = o.mass * o.gravity - o.damping * vr;
+    vr = vr + o.dt * (f * (1.0 / o.mass));                 // eqs. 6-7
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_DOUBLE_EQ(s.x(c, 0), xr[c]) << "step " << i;
+      ASSERT_DOUBLE_EQ(s.v(c, 0), vr[c]) << "step " << i;
+    }
+  }
+  // without damping the recurrence has a closed form: y_n = y0 + n h vy0 - h^2 g n(n-1)/2
+  o.damping = 0.0;
+  ModelBuilder mb2(o);
+  mb2.add_cloth(x, {}, {});
+  const Model m2 = mb2.build();
+  State s2 = make_state(m2);
+  Workspace ws2 = make_workspace(m2);
+  const int n = 200;
+  for (int i = 0; i < n; ++i) ASSERT_TRUE(step(m2, s2, ws2).finite);
+  const double expected = 3.0 - o.dt * o.dt * 9.81 * n * (n - 1) / 2.0;
+  EXPECT_NEAR(s2.x(1, 0), expected, 1e-12 * std::abs(expected));
+  EXPECT_NEAR(s2.v(1, 0), -9.81 * o.dt * n, 1e-12 * 9.81 * o.dt * n);
+}
+
+TEST(Integrator, HangingChainReachesTheAnalyticEquilibrium) {
+  Options o;
+  o.damping = 1.0;  // beta = 5/s: every mode rings down within a few seconds
+  o.dt = 0.005;
+  const int n = 10;
+  const double l = 0.1;
+  Eigen::Matrix3Xd x(3, n);
+  std::vector<SpringSpec> springs;
+  for (int i = 0; i < n; ++i) x.col(i) = Eigen::Vector3d(0, -i * l, 0);
+  for (int i = 1; i < n; ++i) springs.push_back({std::uint32_t(i - 1), std::uint32_t(i), 0, -1.0});
+  ModelBuilder mb(o, "chain");
+  const std::uint32_t pin = 0;
+  mb.add_cloth(x, springs, std::span(&pin, 1));
+  const Model m = mb.build();
+  State s = make_state(m);
+  Workspace ws = make_workspace(m);
+  for (int i = 0; i < 3000; ++i) ASSERT_TRUE(step(m, s, ws).finite);
+  // spring j carries the weight of the n - j masses below it
+  double y = 0.0;
+  for (int j = 1; j < n; ++j) {
+    y -= l + o.mass * 9.81 * (n - j) / o.k_struct;
+    EXPECT_NEAR(s.x(1, j), y, 1e-6 * std::abs(y)) << "mass " << j;
+    EXPECT_NEAR(s.x(0, j), 0.0, 1e-12);
+  }
+}
+
+TEST(Integrator, PinnedMassesStayBitIdentical) {
+  Options o;
+  Model m = test::grid_model(o, 6, 6, {0, 5});
+  m.x0(0, 5) = -0.0 * m.x0(0, 5);  // a negative zero must survive
+  m.x0(1, 5) = -0.0;
+  State s = make_state(m);
+  Workspace ws = make_workspace(m);
+  const Eigen::Matrix3Xd before = s.x;
+  for (int i = 0; i < 200; ++i) ASSERT_TRUE(step(m, s, ws).finite);
+  EXPECT_EQ(std::memcmp(s.x.col(0).data(), before.col(0).data(), 3 * sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(s.x.col(5).data(), before.col(5).data(), 3 * sizeof(double)), 0);
+  EXPECT_TRUE(std::signbit(s.x(1, 5)));
+  EXPECT_EQ(s.v.col(0).squaredNorm(), 0.0);
+  EXPECT_LT(s.x(1, 35), -0.1);  // the free corner fell
+}
+
+TEST(Integrator, SameRunTwiceIsBitIdentical) {
+  Options o;
+  const Model m = test::grid_model(o, 8, 8, {0, 7});
+  auto run = [&m] {
+    State s = make_state(m);
+    Workspace ws = make_workspace(m);
+    for (int i = 0; i < 300; ++i) step(m, s, ws);
+    return state_hash(s);
+  };
+  EXPECT_EQ(run(), run());
+}
+
+TEST(Integrator, StepDoesNotChangeTheModelAndCountsTime) {
+  Options o;
+  const Model m = test::grid_model(o, 4, 4, {0});
+  const Eigen::Matrix3Xd x0 = m.x0;
+  State s = make_state(m);
+  Workspace ws = make_workspace(m);
+  for (int i = 0; i < 10; ++i) step(m, s, ws);
+  EXPECT_EQ(s.steps, 10u);
+  EXPECT_NEAR(s.t, 0.1, 1e-12);
+  EXPECT_EQ(m.x0, x0);
+}
+
+TEST(Stability, GershgorinStepIsStableAndTwiceItBlowsUp) {
+  Options o = no_gravity();
+  const Model probe = test::grid_model(o, 6, 6);
+  const double dt_safe = 2.0 / gershgorin_omega_max(probe);
+  auto finite_after = [&](double dt) {
+    Options oo = o;
+    oo.dt = dt;
+    const Model m = test::grid_model(oo, 6, 6);
+    State s = make_state(m);
+    for (Eigen::Index i = 0; i < s.v.cols(); ++i) s.v.col(i) = Eigen::Vector3d(0.01 * ((i * 7) % 5), 0.02 * ((i * 3) % 4), 0.0);
+    Workspace ws = make_workspace(m);
+    for (int i = 0; i < 3000; ++i)
+      if (!step(m, s, ws).finite) return false;
+    return s.x.cwiseAbs().maxCoeff() < 10.0;
+  };
+  EXPECT_TRUE(finite_after(0.98 * dt_safe));
+  EXPECT_FALSE(finite_after(2.0 * dt_safe));
+}
+
+TEST(Integrator, NonFiniteIsReported) {
+  Options o;
+  o.dt = 1.0;  // far above the stability limit
+  const Model m = test::grid_model(o, 5, 5, {0});
+  State s = make_state(m);
+  Workspace ws = make_workspace(m);
+  bool finite = true;
+  for (int i = 0; i < 2000 && finite; ++i) finite = step(m, s, ws).finite;
+  EXPECT_FALSE(finite);
+}
+
+TEST(Drag, PullsTheMassTowardTheTarget) {
+  const Options o = no_gravity();
+  const Model m = test::grid_model(o, 3, 3);
+  State s = make_state(m);
+  s.drag = Drag{4, m.x0.col(4) + Eigen::Vector3d(0, 1, 0), 10.0};
+  Workspace ws = make_workspace(m);
+  step(m, s, ws);
+  EXPECT_GT(s.v(1, 4), 0.0);
+  EXPECT_EQ(s.v(1, 0), 0.0);
+}
+
+TEST(Options, ValidateRefusesBadValues) {
+  EXPECT_EQ(validate_options(Options{}), "");
+  Options o;
+  o.dt = 0.0;
+  EXPECT_NE(validate_options(o).find("dt"), std::string::npos);
+  o = Options{};
+  o.dt = -0.01;
+  EXPECT_NE(validate_options(o).find("dt"), std::string::npos);
+  o = Options{};
+  o.mass = 0.0;
+  EXPECT_NE(validate_options(o).find("mass"), std::string::npos);
+  o = Options{};
+  o.k_struct = std::nan("");
+  EXPECT_NE(validate_options(o).find("k_struct"), std::string::npos);
+  o = Options{};
+  o.gravity.y() = INFINITY;
+  EXPECT_NE(validate_options(o).find("gravity"), std::string::npos);
+}
+
+TEST(Builder, RefusesBadIndices) {
+  ModelBuilder mb(Options{});
+  Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Zero(3, 2);
+  const SpringSpec bad{0, 2, 0};
+  EXPECT_THROW(mb.add_cloth(x, std::span(&bad, 1), {}), std::invalid_argument);
+  const SpringSpec self{1, 1, 0};
+  EXPECT_THROW(mb.add_cloth(x, std::span(&self, 1), {}), std::invalid_argument);
+  const std::uint32_t pin = 5;
+  EXPECT_THROW(mb.add_cloth(x, {}, std::span(&pin, 1)), std::invalid_argument);
+}
+
+TEST(Builder, ConcatenatesClothsWithGlobalIndices) {
+  ModelBuilder mb(Options{});
+  const auto sp = test::grid_springs(2, 2);
+  mb.add_cloth(test::grid_positions(2, 2, 0.1, 0.0), sp, {});
+  const std::uint32_t pin = 1;
+  mb.add_cloth(test::grid_positions(2, 2, 0.1, 1.0), sp, std::span(&pin, 1));
+  const Model m = mb.build();
+  ASSERT_EQ(m.cloths.size(), 2u);
+  EXPECT_EQ(m.mass_count(), 8u);
+  EXPECT_EQ(m.cloths[1].first_mass, 4u);
+  EXPECT_EQ(m.cloths[1].first_spring, sp.size());
+  EXPECT_EQ(m.spring_a[sp.size()], 4u + sp[0].a);
+  EXPECT_EQ(m.pinned[5], 1);
+  EXPECT_EQ(m.inv_mass[5], 0.0);
+  EXPECT_DOUBLE_EQ(m.inv_mass[4], 10.0);
+}
+
+}  // namespace
+}  // namespace clothsim
