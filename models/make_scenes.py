@@ -1,0 +1,518 @@
+"""Build every scene of the cloth simulator in Blender and export it as OBJ/MTL.
+
+Run headless (Blender 3.4, factory settings, no .blend file involved):
+
+    blender -b --factory-startup -P models/make_scenes.py -- [--out DIR] [SCENE ...]
+
+SCENE is any of: skirt dice hanging skirt_hires (default: all). Each scene goes
+to DIR/<scene>/<scene>.obj + .mtl + its PNG textures (DIR defaults to the folder
+of this script). The textures are drawn here by a tiny PNG writer, so nothing is
+random and a second run writes byte-identical files. After exporting, the script
+reads each .obj back and checks names, face formats and extents, then prints a
+summary (the tables in models/README.md come from it).
+
+Figures in the script are in the OBJ's Y-up frame (what the simulator sees); the
+helper `B()` turns them into Blender's Z-up frame, and the exporter turns them
+back (forward -Z, up Y: OBJ (x, y, z) = Blender (x, z, -y)).
+"""
+
+import math
+import os
+import shutil
+import struct
+import sys
+import zlib
+
+import bmesh
+import bpy
+from mathutils import Matrix, Vector
+
+
+# --------------------------------------------------------------------------- #
+# small helpers
+# --------------------------------------------------------------------------- #
+
+def B(x, y, z):
+    """OBJ (Y up) coordinates -> Blender (Z up) coordinates."""
+    return Vector((x, -z, y))
+
+
+def write_png(path, width, height, pixel):
+    """Write an 8-bit RGB PNG; pixel(x, y) -> (r, g, b) with y = 0 at the BOTTOM
+    (the UV convention of Blender and OBJ: v = 0 is the bottom row)."""
+    raw = bytearray()
+    for row in range(height):
+        y = height - 1 - row  # PNG rows run top to bottom
+        raw.append(0)  # filter: none
+        for x in range(width):
+            raw.extend(pixel(x, y))
+
+    def chunk(tag, data):
+        return (struct.pack(">I", len(data)) + tag + data
+                + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF))
+
+    png = (b"\x89PNG\r\n\x1a\n"
+           + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+           + chunk(b"IDAT", zlib.compress(bytes(raw), 9))
+           + chunk(b"IEND", b""))
+    with open(path, "wb") as f:
+        f.write(png)
+
+
+def fresh_scene():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+
+
+def make_material(name, color, image_path=None, roughness=0.7, specular=0.3):
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    bsdf = nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (*color, 1.0)
+    bsdf.inputs["Roughness"].default_value = roughness
+    bsdf.inputs["Specular"].default_value = specular
+    mat.diffuse_color = (*color, 1.0)
+    if image_path is not None:
+        tex = nodes.new("ShaderNodeTexImage")
+        tex.image = bpy.data.images.load(image_path)
+        mat.node_tree.links.new(tex.outputs["Color"], bsdf.inputs["Base Color"])
+    return mat
+
+
+def new_object(name, bm, material, smooth):
+    for f in bm.faces:
+        f.smooth = smooth
+    me = bpy.data.meshes.new(name)
+    bm.to_mesh(me)
+    bm.free()
+    me.materials.append(material)
+    obj = bpy.data.objects.new(name, me)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def grid(bm, uv, n, size, centre, u_repeat=1.0, triangulate=False):
+    """An n x n-quad horizontal square grid (OBJ XZ plane), normals up (+Y)."""
+    cx, cy, cz = centre
+    vs = []
+    for j in range(n + 1):  # along OBJ -z (Blender +y)
+        row = []
+        for i in range(n + 1):  # along x
+            x = cx - size / 2 + size * i / n
+            z = cz + size / 2 - size * j / n
+            row.append(bm.verts.new(B(x, cy, z)))
+        vs.append(row)
+    for j in range(n):
+        for i in range(n):
+            corners = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)]
+            f = bm.faces.new([vs[b][a] for a, b in corners])
+            for loop, (a, b) in zip(f.loops, corners):
+                loop[uv].uv = (u_repeat * a / n, u_repeat * b / n)
+    if triangulate:
+        # FIXED: every quad is cut along the same diagonal, the regular
+        # triangular grid of the report's figure 3.
+        bmesh.ops.triangulate(bm, faces=bm.faces[:], quad_method="FIXED",
+                              ngon_method="BEAUTY")
+    return vs
+
+
+# --------------------------------------------------------------------------- #
+# textures
+# --------------------------------------------------------------------------- #
+
+def checker_texture(path, cols, rows, cell, c0, c1):
+    def pixel(x, y):
+        return c0 if ((x // cell) + (y // cell)) % 2 == 0 else c1
+    write_png(path, cols * cell, rows * cell, pixel)
+
+
+def tiles_texture(path, tiles=10, cell=32):
+    """Floor tiles: light stone squares with darker grout lines."""
+    grout = (92, 88, 80)
+    stones = [(196, 190, 176), (178, 172, 158)]
+
+    def pixel(x, y):
+        cx, cy = x % cell, y % cell
+        if cx < 2 or cy < 2:
+            return grout
+        return stones[((x // cell) + (y // cell)) % 2]
+    write_png(path, tiles * cell, tiles * cell, pixel)
+
+
+# Pip positions on a unit face (u right, v up) for the faces 1..6.
+PIPS = {
+    1: [(0.5, 0.5)],
+    2: [(0.25, 0.75), (0.75, 0.25)],
+    3: [(0.25, 0.75), (0.5, 0.5), (0.75, 0.25)],
+    4: [(0.25, 0.25), (0.25, 0.75), (0.75, 0.25), (0.75, 0.75)],
+    5: [(0.25, 0.25), (0.25, 0.75), (0.5, 0.5), (0.75, 0.25), (0.75, 0.75)],
+    6: [(0.25, 0.2), (0.25, 0.5), (0.25, 0.8), (0.75, 0.2), (0.75, 0.5), (0.75, 0.8)],
+}
+DIE_CELL = 128          # pixels per die face in the atlas
+DIE_COLS, DIE_ROWS = 3, 2
+
+
+def die_cell_origin(face):
+    """Atlas cell (in UV space, v up) of die face 1..6: 1 2 3 on the top row."""
+    k = face - 1
+    return (k % DIE_COLS) / DIE_COLS, (DIE_ROWS - 1 - k // DIE_COLS) / DIE_ROWS
+
+
+def die_texture(path):
+    ivory, border, pip, red = (240, 236, 222), (150, 146, 134), (24, 24, 28), (180, 20, 30)
+    w, h = DIE_COLS * DIE_CELL, DIE_ROWS * DIE_CELL
+    r2 = (0.1 * DIE_CELL) ** 2
+
+    def pixel(x, y):
+        col, row = x // DIE_CELL, y // DIE_CELL
+        face = (DIE_ROWS - 1 - row) * DIE_COLS + col + 1
+        lx, ly = x % DIE_CELL, y % DIE_CELL
+        if min(lx, ly, DIE_CELL - 1 - lx, DIE_CELL - 1 - ly) < 3:
+            return border
+        for px, py in PIPS[face]:
+            dx, dy = lx + 0.5 - px * DIE_CELL, ly + 0.5 - py * DIE_CELL
+            if dx * dx + dy * dy <= r2 * (2.0 if face == 1 else 1.0):
+                return red if face == 1 else pip
+        return ivory
+    write_png(path, w, h, pixel)
+
+
+# --------------------------------------------------------------------------- #
+# scene 1: skirt above a sphere above a floor
+# --------------------------------------------------------------------------- #
+
+SPHERE_CENTRE = (0.04, -1.08, 0.03)
+SPHERE_RADIUS = 0.85
+FLOOR_Y = -2.33
+
+
+def skirt_mesh(segments, quad_bands, centre_xz=(0.04, 0.13), y_top=1.06, y_bottom=0.02,
+               r_top=0.3, r_bottom=1.5):
+    """An open cone like the 2016 'Cone': `quad_bands` bands of quads from the hem
+    upwards and one band of pentagons at the top (the top ring has a vertex at
+    each segment's middle too), as the 2016 export had (256 quads + 32 pentagons
+    for 32 segments and 8 quad bands). Normals point outwards.
+    The centre is 0.1 off the sphere's axis (in z), so the skirt slips off."""
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    rings = quad_bands + 1                  # full rings of `segments` vertices
+    bands = quad_bands + 1                  # plus the pentagon band
+    cx, cz = centre_xz
+
+    def point(t, angle):
+        # t = 0 at the hem, 1 at the top; straight slant, evenly spaced rings
+        r = r_bottom + (r_top - r_bottom) * t
+        y = y_bottom + (y_top - y_bottom) * t
+        return B(cx + r * math.cos(angle), y, cz - r * math.sin(angle))
+
+    ring = []
+    for k in range(rings):
+        t = k / bands
+        ring.append([bm.verts.new(point(t, 2 * math.pi * j / segments)) for j in range(segments)])
+    top = [bm.verts.new(point(1.0, 2 * math.pi * h / (2 * segments))) for h in range(2 * segments)]
+
+    def face(verts, uvs):
+        f = bm.faces.new(verts)
+        for loop, c in zip(f.loops, uvs):
+            loop[uv].uv = c
+
+    for k in range(quad_bands):
+        v0, v1 = k / bands, (k + 1) / bands
+        for j in range(segments):
+            j1 = (j + 1) % segments
+            u0, u1 = j / segments, (j + 1) / segments  # the seam gets u = 1, not 0
+            face([ring[k][j], ring[k][j1], ring[k + 1][j1], ring[k + 1][j]],
+                 [(u0, v0), (u1, v0), (u1, v1), (u0, v1)])
+    k = quad_bands
+    v0 = k / bands
+    for j in range(segments):
+        j1 = (j + 1) % segments
+        u0, um, u1 = j / segments, (j + 0.5) / segments, (j + 1) / segments
+        face([ring[k][j], ring[k][j1], top[(2 * j + 2) % (2 * segments)], top[2 * j + 1], top[2 * j]],
+             [(u0, v0), (u1, v0), (u1, 1.0), (um, 1.0), (u0, 1.0)])
+
+    # Outward normals: each face points away from the skirt's axis.
+    bm.normal_update()
+    axis = B(cx, 0.0, cz)
+    for f in bm.faces:
+        c = f.calc_center_median()
+        radial = Vector((c.x - axis.x, c.y - axis.y, 0.0))
+        assert f.normal.dot(radial) > 0.0, "skirt face points inwards"
+    return bm
+
+
+def build_skirt(out_dir, name, segments, quad_bands):
+    fresh_scene()
+    os.makedirs(out_dir, exist_ok=True)
+    cloth_png = os.path.join(out_dir, "skirt_checker.png")
+    floor_png = os.path.join(out_dir, "floor_tiles.png")
+    # 16 x 4 checks of 32 px around x along the skirt (u spans the circumference)
+    checker_texture(cloth_png, 16, 4, 32, (200, 40, 50), (245, 235, 215))
+    tiles_texture(floor_png)
+
+    bm = skirt_mesh(segments, quad_bands)
+    new_object("Skirt", bm, make_material("SkirtCloth", (0.8, 0.2, 0.2), cloth_png), smooth=True)
+
+    bm = bmesh.new()
+    bm.loops.layers.uv.new("UVMap")
+    bmesh.ops.create_icosphere(bm, subdivisions=2, radius=SPHERE_RADIUS,
+                               matrix=Matrix.Translation(B(*SPHERE_CENTRE)), calc_uvs=True)
+    new_object("Sphere", bm, make_material("SphereGrey", (0.55, 0.56, 0.6), roughness=0.4),
+               smooth=True)
+
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    grid(bm, uv, 18, 20.0, (0.0, FLOOR_Y, 0.0))
+    new_object("Floor", bm, make_material("FloorTiles", (0.75, 0.73, 0.68), floor_png),
+               smooth=False)
+    return export(out_dir, name)
+
+
+# --------------------------------------------------------------------------- #
+# scene 2: two dice above a plane
+# --------------------------------------------------------------------------- #
+
+DIE_EDGE = 0.5
+# outward normal (OBJ frame) -> die face number; opposite faces sum to 7
+DIE_FACES = {(0, 1, 0): 1, (0, -1, 0): 6, (0, 0, 1): 2, (0, 0, -1): 5, (1, 0, 0): 3, (-1, 0, 0): 4}
+
+
+def die_mesh(centre, rotation):
+    """A cube of 8 vertices; each face's UVs cover one cell of the die atlas,
+    oriented so the face reads correctly seen from outside."""
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    bmesh.ops.create_cube(bm, size=DIE_EDGE)
+    bm.normal_update()
+    half = DIE_EDGE / 2
+    inset = 2.0 / (DIE_COLS * DIE_CELL)  # stay off the cell's edge: no bleeding
+    for f in bm.faces:
+        n = f.normal  # Blender frame
+        n_obj = (round(n.x), round(n.z), round(-n.y))
+        face = DIE_FACES[n_obj]
+        # tangent frame on the face: u x v = n (counter-clockwise seen from outside)
+        up = Vector((0, 0, 1)) if abs(n.z) < 0.5 else Vector((0, 1, 0))
+        tu = up.cross(n).normalized()
+        tv = n.cross(tu)
+        ou, ov = die_cell_origin(face)
+        cw, ch = 1.0 / DIE_COLS, 1.0 / DIE_ROWS
+        for loop in f.loops:
+            p = loop.vert.co
+            s = (p.dot(tu) / half + 1) / 2
+            t = (p.dot(tv) / half + 1) / 2
+            loop[uv].uv = (ou + inset + s * (cw - 2 * inset), ov + inset + t * (ch - 2 * inset))
+    bmesh.ops.transform(bm, matrix=Matrix.Translation(B(*centre)) @ rotation, verts=bm.verts)
+    return bm
+
+
+def build_dice(out_dir, name):
+    fresh_scene()
+    os.makedirs(out_dir, exist_ok=True)
+    die_png = os.path.join(out_dir, "die_faces.png")
+    plane_png = os.path.join(out_dir, "plane_tiles.png")
+    die_texture(die_png)
+    tiles_texture(plane_png, tiles=6)
+    die_mat = make_material("DieFaces", (0.94, 0.92, 0.87), die_png, roughness=0.3)
+
+    # tilted 35 deg about one axis and 20 deg about another: lands on an edge and tumbles
+    tilt = (Matrix.Rotation(math.radians(35.0), 4, "X") @ Matrix.Rotation(math.radians(20.0), 4, "Y"))
+    new_object("RollingDie", die_mesh((-0.9, 1.6, 0.2), tilt), die_mat, smooth=False)
+    new_object("Die", die_mesh((0.8, 1.0, -0.3), Matrix.Identity(4)), die_mat, smooth=False)
+
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    grid(bm, uv, 1, 6.0, (0.0, 0.0, 0.0))
+    new_object("Plane", bm, make_material("PlaneTiles", (0.7, 0.7, 0.65), plane_png),
+               smooth=False)
+    return export(out_dir, name)
+
+
+# --------------------------------------------------------------------------- #
+# scene 3: a square cloth hanging from its two back corners
+# --------------------------------------------------------------------------- #
+
+PIN_CORNERS = [(-1.0, 1.0, -1.0), (1.0, 1.0, -1.0)]
+PIN_SIZE = 4e-4  # the pin triangles stay well within 1e-3 of their corner
+
+
+def build_hanging(out_dir, name):
+    fresh_scene()
+    os.makedirs(out_dir, exist_ok=True)
+    cloth_png = os.path.join(out_dir, "cloth_checker.png")
+    checker_texture(cloth_png, 8, 8, 32, (40, 90, 170), (235, 235, 225))
+
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    grid(bm, uv, 20, 2.0, (0.0, 1.0, 0.0), triangulate=True)
+    new_object("Cloth", bm, make_material("ClothChecker", (0.2, 0.4, 0.7), cloth_png),
+               smooth=True)
+
+    # One tiny triangle at each pinned corner; the converter pins the cloth mass
+    # nearest to each of these vertices.
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    for x, y, z in PIN_CORNERS:
+        inward = -1.0 if x > 0 else 1.0  # towards the cloth, in x and in +z
+        corners = [(x, y, z), (x + inward * PIN_SIZE, y, z), (x, y, z + PIN_SIZE)]
+        if inward > 0:  # keep the normal up (+Y) on both triangles
+            corners = [corners[0], corners[2], corners[1]]
+        f = bm.faces.new([bm.verts.new(B(*c)) for c in corners])
+        for loop, c in zip(f.loops, [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]):
+            loop[uv].uv = c
+    new_object("Cloth_pins", bm, make_material("PinMarker", (0.9, 0.1, 0.1)), smooth=False)
+    return export(out_dir, name)
+
+
+# --------------------------------------------------------------------------- #
+# export and check
+# --------------------------------------------------------------------------- #
+
+def export(out_dir, name):
+    path = os.path.join(out_dir, name + ".obj")
+    bpy.ops.wm.obj_export(filepath=path, export_materials=True, path_mode="RELATIVE",
+                          export_selected_objects=False, export_uv=True, export_normals=True,
+                          export_triangulated_mesh=False, apply_modifiers=True,
+                          forward_axis="NEGATIVE_Z", up_axis="Y")
+    return check_obj(path)
+
+
+def check_obj(path):
+    """Read the export back: every face v/vt/vn, names, counts, extents."""
+    objects = {}
+    order = []
+    cur = None
+    nv = 0
+    mtllib = None
+    with open(path) as f:
+        for line in f:
+            parts = line.split()
+            if not parts:
+                continue
+            if parts[0] == "mtllib":
+                mtllib = parts[1]
+            elif parts[0] == "o":
+                cur = {"v": [], "faces": 0, "tris": 0, "sizes": {}, "mtl": set()}
+                objects[parts[1]] = cur
+                order.append(parts[1])
+            elif parts[0] == "v":
+                nv += 1
+                cur["v"].append(tuple(float(c) for c in parts[1:4]))
+            elif parts[0] == "usemtl":
+                cur["mtl"].add(parts[1])
+            elif parts[0] == "f":
+                corners = parts[1:]
+                for c in corners:
+                    idx = c.split("/")
+                    assert len(idx) == 3 and all(idx), f"{path}: face corner '{c}' is not v/vt/vn"
+                cur["faces"] += 1
+                cur["tris"] += len(corners) - 2
+                cur["sizes"][len(corners)] = cur["sizes"].get(len(corners), 0) + 1
+    assert mtllib is not None, f"{path}: no mtllib"
+    mtl_path = os.path.join(os.path.dirname(path), mtllib)
+    with open(mtl_path) as f:
+        for line in f:
+            parts = line.split()
+            if parts and parts[0] == "map_Kd":
+                tex = os.path.join(os.path.dirname(path), parts[-1])
+                assert not os.path.isabs(parts[-1]), f"{mtl_path}: absolute texture path"
+                assert os.path.isfile(tex), f"{mtl_path}: missing texture {tex}"
+    summary = []
+    for name in order:
+        o = objects[name]
+        lo = [min(v[i] for v in o["v"]) for i in range(3)]
+        hi = [max(v[i] for v in o["v"]) for i in range(3)]
+        summary.append((name, len(o["v"]), o["faces"], o["tris"], dict(sorted(o["sizes"].items())),
+                        lo, hi, sorted(o["mtl"])))
+    return path, summary, objects
+
+
+def verify(scene, objects):
+    """Scene-specific checks of the exported (Y-up) coordinates."""
+    def ext(name):
+        vs = objects[name]["v"]
+        return ([min(v[i] for v in vs) for i in range(3)], [max(v[i] for v in vs) for i in range(3)])
+
+    if scene.startswith("skirt"):
+        assert set(objects) == {"Skirt", "Sphere", "Floor"}, sorted(objects)
+        lo, hi = ext("Skirt")
+        assert abs(hi[1] - 1.06) < 1e-4 and abs(lo[1] - 0.02) < 1e-4, (lo, hi)  # Y is up
+        lo, hi = ext("Floor")
+        assert abs(lo[1] - FLOOR_Y) < 1e-5 and abs(hi[1] - FLOOR_Y) < 1e-5
+        assert len(objects["Floor"]["v"]) == 19 * 19
+        lo, hi = ext("Sphere")
+        c = [(a + b) / 2 for a, b in zip(lo, hi)]
+        assert all(abs(a - b) < 0.05 for a, b in zip(c, SPHERE_CENTRE)), c
+    elif scene == "dice":
+        assert set(objects) == {"RollingDie", "Die", "Plane"}, sorted(objects)
+        for d in ("RollingDie", "Die"):
+            assert len(objects[d]["v"]) == 8
+            lo, _ = ext(d)
+            assert 0.5 <= lo[1] <= 1.5, (d, lo)
+        a, b = ext("RollingDie"), ext("Die")
+        assert any(a[1][i] < b[0][i] or b[1][i] < a[0][i] for i in range(3)), "dice overlap"
+    elif scene == "hanging":
+        assert set(objects) == {"Cloth", "Cloth_pins"}, sorted(objects)
+        assert len(objects["Cloth"]["v"]) == 21 * 21
+        assert objects["Cloth"]["sizes"] == {3: 800}, objects["Cloth"]["sizes"]
+        assert all(abs(v[1] - 1.0) < 1e-6 for v in objects["Cloth"]["v"])
+        for p in objects["Cloth_pins"]["v"]:
+            d = min(math.dist(p, c) for c in PIN_CORNERS)
+            assert d < 1e-3, (p, d)
+        for c in PIN_CORNERS:  # the corners are cloth vertices
+            assert min(math.dist(v, c) for v in objects["Cloth"]["v"]) < 1e-6, c
+
+
+def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    out = os.path.dirname(os.path.abspath(__file__))
+    scenes = []
+    it = iter(argv)
+    for a in it:
+        if a == "--out":
+            out = os.path.abspath(next(it))
+        else:
+            scenes.append(a)
+    builders = {
+        "skirt": lambda d: build_skirt(d, "skirt", 32, 8),
+        "dice": lambda d: build_dice(d, "dice"),
+        "hanging": lambda d: build_hanging(d, "hanging"),
+        # the same scene with a 128 x 129-ring skirt (16640 vertices) for performance work
+        "skirt_hires": lambda d: build_skirt(d, "skirt_hires", 128, 127),
+    }
+    scenes = scenes or list(builders)
+    for s in scenes:
+        if s not in builders:
+            print(f"make_scenes.py: unknown scene '{s}' (known: {' '.join(builders)})", file=sys.stderr)
+            sys.exit(2)
+    for s in scenes:
+        # Build in a scratch folder and move it into place only once every check
+        # passed: a failed run leaves the committed exports untouched.
+        final = os.path.join(out, s)
+        scratch = os.path.join(out, "." + s + ".tmp")
+        shutil.rmtree(scratch, ignore_errors=True)
+        try:
+            path, summary, objects = builders[s](scratch)
+            verify(s, objects)
+        except BaseException:
+            shutil.rmtree(scratch, ignore_errors=True)
+            raise
+        shutil.rmtree(final, ignore_errors=True)
+        os.replace(scratch, final)
+        path = os.path.join(final, os.path.basename(path))
+        print(f"\n{os.path.relpath(path, out)}")
+        print("| object | vertices | faces | triangles | face sizes | min (x, y, z) | max (x, y, z) | material |")
+        print("|---|---|---|---|---|---|---|---|")
+        for name, nv, nf, nt, sizes, lo, hi, mtl in summary:
+            sz = ", ".join(f"{v}x{k}-gon" for k, v in sizes.items())
+            fmt = lambda p: "(" + ", ".join(f"{c:.3f}" for c in p) + ")"
+            print(f"| {name} | {nv} | {nf} | {nt} | {sz} | {fmt(lo)} | {fmt(hi)} | {', '.join(mtl)} |")
+
+
+try:
+    main()
+except AssertionError as e:
+    print(f"make_scenes.py: check failed: {e}", file=sys.stderr)
+    sys.exit(1)
+except Exception as e:  # Blender would otherwise print a trace and exit 0
+    print(f"make_scenes.py: {type(e).__name__}: {e}", file=sys.stderr)
+    sys.exit(1)
