@@ -1,0 +1,167 @@
+// clothsim collision: cloth points against static triangle meshes (the 2016 report, sec. 4).
+//
+// Depends on Eigen only. Usable without the rest of the simulator:
+//   ColliderSet set;
+//   set.add_object("floor", V, indices);   // V: 3 x V positions, indices: 3 per triangle
+//   set.build();                           // once: drops degenerate triangles, builds a BVH
+//   accumulate_penalty(set, x, eps, k_rep, f, stats);   // every step, never allocates
+//
+// Conventions (see docs/collision.md):
+//   * A triangle's unit normal follows its counter-clockwise winding, n = (B-A)x(C-A)/|..|,
+//     as Blender writes outward-facing faces. Front side = the side n points to.
+//   * The distance of a point P to a triangle is the TRUE Euclidean distance to the closest
+//     point of the triangle (face, edge or vertex: Ericson's closest point), signed by the
+//     side of the triangle's plane: positive in front, negative behind, +0 on the plane.
+//   * Per collider object only the closest triangle counts (ties: lowest triangle index);
+//     forces of different objects add up.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace clothsim {
+
+/// Which feature of a triangle the closest point lies on.
+enum class TriangleRegion : std::uint8_t { Face, EdgeAB, EdgeBC, EdgeCA, VertexA, VertexB, VertexC };
+
+/// Point-triangle query result (report eqs. 8-11 with a unit normal and the closest point).
+struct PointTriangle {
+  Eigen::Vector3d closest = Eigen::Vector3d::Zero();  ///< closest point on the triangle
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();   ///< unit normal (CCW winding)
+  double distance_sq = 0.0;      ///< |P - closest|^2
+  double signed_distance = 0.0;  ///< +-|P - closest|, sign of n.(P - A); >= 0 on the plane
+  TriangleRegion region = TriangleRegion::Face;
+  bool degenerate = false;       ///< zero area / collinear: nothing else is meaningful
+};
+
+/// Closest point on triangle ABC to P, with the true signed distance. The same arithmetic
+/// as the ColliderSet queries (bit-identical distances for the same triangle).
+PointTriangle point_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                             const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
+/// True when ABC has (numerically) no area: |AB x AC| <= 1e-12 * (longest edge)^2, or a
+/// coordinate is not finite. Such triangles are skipped by ColliderSet::build().
+bool triangle_is_degenerate(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                            const Eigen::Vector3d& c);
+
+/// The closest triangle of one collider object to a point.
+struct ColliderHit {
+  std::int32_t object = -1;    ///< -1: no triangle of this object within the query radius
+  std::int32_t triangle = -1;  ///< index into the object's input triangle list
+  double distance_sq = 0.0;
+  double signed_distance = 0.0;  ///< > 0 in front (normal side), < 0 behind
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< unit normal of that triangle
+  bool valid() const { return object >= 0; }
+};
+
+/// How a query searches: the BVH, or every triangle (the reference; same results).
+enum class QueryMethod : std::uint8_t { Bvh, BruteForce };
+
+/// What one accumulate_penalty() call saw.
+struct PenaltyStats {
+  double max_penetration = 0.0;  ///< m, deepest a point was BEHIND a surface (-d for d < 0), >= 0
+  std::size_t contacts = 0;      ///< (point, object) pairs with -eps <= d <= eps (a force)
+  std::size_t tunnelled = 0;     ///< (point, object) pairs with -2 eps <= d < -eps (no force)
+  std::size_t nonfinite_points = 0;  ///< points with a NaN/inf coordinate (skipped)
+};
+
+/// Static collider triangles in world space, grouped by object, with a BVH per object.
+/// Fill with add_object(), then build() once; afterwards it is read-only and thread-safe.
+struct ColliderSet {
+ public:
+  /// Adds a mesh. `vertices` is 3 x V; `indices` holds 3 vertex indices per triangle
+  /// (counter-clockwise seen from the front). Returns the object index.
+  /// Throws std::invalid_argument naming the object on a bad index, a non-finite vertex or an
+  /// index count that is not a multiple of 3; std::logic_error after build().
+  std::uint32_t add_object(std::string name, const Eigen::Matrix3Xd& vertices,
+                           std::span<const std::uint32_t> indices);
+  /// The same with a 3 x T index matrix.
+  std::uint32_t add_object(std::string name, const Eigen::Matrix3Xd& vertices,
+                           const Eigen::Matrix<std::uint32_t, 3, Eigen::Dynamic>& triangles);
+
+  /// Drops degenerate triangles (counted per object) and builds the BVHs. Call once.
+  void build();
+  bool built() const { return built_; }
+
+  std::size_t object_count() const { return objects_.size(); }
+  const std::string& object_name(std::size_t o) const { return objects_.at(o).name; }
+  /// Triangles as given to add_object (including degenerate ones).
+  std::size_t input_triangle_count(std::size_t o) const { return objects_.at(o).indices.size() / 3; }
+  /// Triangles kept by build() (all objects, or one).
+  std::size_t triangle_count() const { return orig_.size(); }
+  std::size_t triangle_count(std::size_t o) const;
+  /// Degenerate triangles skipped by build().
+  std::size_t degenerate_count(std::size_t o) const { return objects_.at(o).degenerate; }
+  /// Corners of input triangle t of object o (as given, world space).
+  void triangle(std::size_t o, std::size_t t, Eigen::Vector3d& a, Eigen::Vector3d& b,
+                Eigen::Vector3d& c) const;
+  /// Bounding box of every kept triangle (empty box when none).
+  Eigen::Vector3d bounds_min() const { return lo_; }
+  Eigen::Vector3d bounds_max() const { return hi_; }
+  std::size_t bvh_node_count() const { return nodes_.size(); }
+
+  /// Per object, the closest kept triangle with distance <= radius. `out` must have
+  /// object_count() entries; entries of objects with nothing in reach get object = -1.
+  /// `hints` (empty, or object_count() entries): a previous closest input triangle index per
+  /// object (or -1) that makes the BVH search start small; updated on return. Results never
+  /// depend on hints or method. Returns the number of objects hit.
+  std::size_t query(const Eigen::Vector3d& p, double radius, std::span<ColliderHit> out,
+                    QueryMethod method = QueryMethod::Bvh,
+                    std::span<std::int32_t> hints = {}) const;
+  /// The closest kept triangle of any object within radius (ties: lowest object, then
+  /// lowest triangle index); invalid hit when none. For tests and picking helpers.
+  ColliderHit closest(const Eigen::Vector3d& p, double radius,
+                      QueryMethod method = QueryMethod::Bvh) const;
+
+  // --- internals shared with accumulate_penalty() ---
+  /// 32-byte BVH node; boxes are float, rounded outward so they always contain the triangles.
+  struct Node {
+    float lo[3], hi[3];
+    std::uint32_t index;  ///< leaf: first triangle; inner: right child (left = this + 1)
+    std::uint32_t count;  ///< leaf: number of triangles (>0); inner: 0
+  };
+  /// One object's query; `hint` is an input triangle index or -1. Returns hit or invalid.
+  ColliderHit query_object(std::size_t o, const double p[3], double radius_sq, QueryMethod method,
+                           std::int32_t hint) const;
+
+ private:
+  struct Object {
+    std::string name;
+    Eigen::Matrix3Xd vertices;
+    std::vector<std::uint32_t> indices;
+    std::size_t degenerate = 0;
+    std::uint32_t tri_begin = 0, tri_end = 0;  ///< kept triangles, BVH order
+    std::uint32_t root = 0;                    ///< node index (valid when tri_end > tri_begin)
+    std::vector<std::int32_t> input_to_kept;   ///< input triangle -> kept slot, -1 if dropped
+  };
+  std::uint32_t build_node(std::uint32_t begin, std::uint32_t end, std::vector<double>& cent,
+                           std::vector<std::uint32_t>& perm, const Eigen::Matrix3Xd& lo,
+                           const Eigen::Matrix3Xd& hi, double pad);
+
+  std::vector<Object> objects_;
+  bool built_ = false;
+  // Kept triangles, structure of arrays in BVH order: A, AB = B - A, AC = C - A, unit normal.
+  std::vector<double> ax_, ay_, az_, bx_, by_, bz_, cx_, cy_, cz_, nx_, ny_, nz_;
+  std::vector<std::int32_t> orig_;     ///< input triangle index within its object
+  std::vector<Node> nodes_;
+  Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), hi_ = Eigen::Vector3d::Zero();
+};
+
+/// Penalty response, report eq. 12 with the unit normal: for each point i and each collider
+/// object, with d the signed distance to the object's closest triangle (normal n):
+///   -eps <= d <= eps : f_i += k_rep * (eps - d) * n    (pushed to the front side)
+///   -2eps <= d < -eps: tunnelled, no force, counted; deeper: not seen.
+/// `f` (3 x n, same size as x) is ADDED to. `stats` is overwritten. `hints` is empty or has
+/// x.cols() * set.object_count() entries (point-major), initialised to -1 and kept between
+/// steps; it only speeds up the search. Never allocates. Throws std::logic_error if the set
+/// is not built or sizes disagree.
+void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, double eps,
+                        double k_rep, Eigen::Matrix3Xd& f, PenaltyStats& stats,
+                        std::span<std::int32_t> hints = {},
+                        QueryMethod method = QueryMethod::Bvh);
+
+}  // namespace clothsim

@@ -1,0 +1,417 @@
+#include "clothsim/collision.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "kernel.hpp"
+
+namespace clothsim {
+
+namespace {
+
+Eigen::Vector3d unit_normal(const Eigen::Vector3d& ab, const Eigen::Vector3d& ac) {
+  return ab.cross(ac).normalized();
+}
+
+// Squared distance from p to a node's box (0 inside). Float corners convert exactly.
+inline double box_dist_sq(const ColliderSet::Node& n, const double p[3]) {
+  double d2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double lo = static_cast<double>(n.lo[k]), hi = static_cast<double>(n.hi[k]);
+    const double e = p[k] < lo ? lo - p[k] : (p[k] > hi ? p[k] - hi : 0.0);
+    d2 += e * e;
+  }
+  return d2;
+}
+
+inline double box_dist_sq(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const double p[3]) {
+  double d2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double e = p[k] < lo[k] ? lo[k] - p[k] : (p[k] > hi[k] ? p[k] - hi[k] : 0.0);
+    d2 += e * e;
+  }
+  return d2;
+}
+
+// Float box corners rounded outward, then padded, so that a box always contains every
+// computed closest point of its triangles (double rounding there is far below `pad`).
+float round_down(double v, double pad) {
+  const double t = v - pad;
+  auto f = static_cast<float>(t);
+  if (static_cast<double>(f) > t) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+float round_up(double v, double pad) {
+  const double t = v + pad;
+  auto f = static_cast<float>(t);
+  if (static_cast<double>(f) < t) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+
+// Total order for "closest": distance, then lowest input triangle index.
+inline bool better(double d2, std::int32_t tri, double best_d2, std::int32_t best_tri) {
+  return d2 < best_d2 || (d2 == best_d2 && tri < best_tri);
+}
+
+}  // namespace
+
+PointTriangle point_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                             const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  PointTriangle r;
+  if (triangle_is_degenerate(a, b, c)) {
+    r.degenerate = true;
+    return r;
+  }
+  const Eigen::Vector3d ab = b - a, ac = c - a, n = unit_normal(ab, ac);
+  const detail::Tri t{a.x(), a.y(), a.z(), ab.x(), ab.y(), ab.z(),
+                      ac.x(), ac.y(), ac.z(), n.x(), n.y(), n.z()};
+  const double pp[3] = {p.x(), p.y(), p.z()};
+  double s = 0, v = 0, w = 0;
+  r.distance_sq = detail::closest_sq(pp, t, s, v, w, r.region);
+  r.signed_distance = detail::signed_distance(r.distance_sq, s);
+  r.closest = a + v * ab + w * ac;
+  r.normal = n;
+  return r;
+}
+
+bool triangle_is_degenerate(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                            const Eigen::Vector3d& c) {
+  if (!a.allFinite() || !b.allFinite() || !c.allFinite()) return true;
+  const Eigen::Vector3d ab = b - a, ac = c - a, bc = c - b;
+  const double longest_sq = std::max({ab.squaredNorm(), ac.squaredNorm(), bc.squaredNorm()});
+  const double cross = ab.cross(ac).norm();
+  // |AB x AC| = 2 area; relative to the longest edge so that slivers count as degenerate.
+  return !(cross > 1e-12 * longest_sq) || !std::isfinite(cross);
+}
+
+std::uint32_t ColliderSet::add_object(std::string name, const Eigen::Matrix3Xd& vertices,
+                                      std::span<const std::uint32_t> indices) {
+  if (built_)
+    throw std::logic_error("collider '" + name + "': add_object() after build()");
+  if (indices.size() % 3 != 0)
+    throw std::invalid_argument("collider '" + name + "': index count " +
+                                std::to_string(indices.size()) + " is not a multiple of 3");
+  for (Eigen::Index i = 0; i < vertices.cols(); ++i)
+    if (!vertices.col(i).allFinite())
+      throw std::invalid_argument("collider '" + name + "': vertex " + std::to_string(i) +
+                                  " is not finite");
+  for (std::size_t i = 0; i < indices.size(); ++i)
+    if (indices[i] >= static_cast<std::uint64_t>(vertices.cols()))
+      throw std::invalid_argument("collider '" + name + "': triangle " + std::to_string(i / 3) +
+                                  " uses vertex " + std::to_string(indices[i]) + " of " +
+                                  std::to_string(vertices.cols()));
+  if (indices.size() / 3 > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+    throw std::invalid_argument("collider '" + name + "': too many triangles");
+  Object o;
+  o.name = std::move(name);
+  o.vertices = vertices;
+  o.indices.assign(indices.begin(), indices.end());
+  objects_.push_back(std::move(o));
+  return static_cast<std::uint32_t>(objects_.size() - 1);
+}
+
+std::uint32_t ColliderSet::add_object(
+    std::string name, const Eigen::Matrix3Xd& vertices,
+    const Eigen::Matrix<std::uint32_t, 3, Eigen::Dynamic>& triangles) {
+  return add_object(std::move(name), vertices,
+                    std::span<const std::uint32_t>(triangles.data(),
+                                                   static_cast<std::size_t>(triangles.size())));
+}
+
+std::size_t ColliderSet::triangle_count(std::size_t o) const {
+  const Object& ob = objects_.at(o);
+  return ob.tri_end - ob.tri_begin;
+}
+
+void ColliderSet::triangle(std::size_t o, std::size_t t, Eigen::Vector3d& a, Eigen::Vector3d& b,
+                           Eigen::Vector3d& c) const {
+  const Object& ob = objects_.at(o);
+  if (t >= ob.indices.size() / 3) throw std::out_of_range("collider triangle index out of range");
+  a = ob.vertices.col(ob.indices[3 * t]);
+  b = ob.vertices.col(ob.indices[3 * t + 1]);
+  c = ob.vertices.col(ob.indices[3 * t + 2]);
+}
+
+void ColliderSet::build() {
+  if (built_) throw std::logic_error("ColliderSet::build() called twice");
+  std::size_t total = 0;
+  for (const Object& o : objects_) total += o.indices.size() / 3;
+  for (auto* v : {&ax_, &ay_, &az_, &bx_, &by_, &bz_, &cx_, &cy_, &cz_, &nx_, &ny_, &nz_})
+    v->reserve(total);
+  orig_.reserve(total);
+  nodes_.reserve(total / 2 + 2 * objects_.size() + 1);
+
+  lo_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  hi_ = -lo_;
+  for (Object& ob : objects_) {
+    const std::size_t nt = ob.indices.size() / 3;
+    ob.input_to_kept.assign(nt, -1);
+    std::vector<std::uint32_t> kept;
+    kept.reserve(nt);
+    double scale = 1e-300;
+    for (std::size_t t = 0; t < nt; ++t) {
+      Eigen::Vector3d a, b, c;
+      triangle(static_cast<std::size_t>(&ob - objects_.data()), t, a, b, c);
+      if (triangle_is_degenerate(a, b, c)) {
+        ++ob.degenerate;
+        continue;
+      }
+      kept.push_back(static_cast<std::uint32_t>(t));
+      scale = std::max({scale, a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(),
+                        c.cwiseAbs().maxCoeff()});
+    }
+    ob.tri_begin = static_cast<std::uint32_t>(orig_.size());
+    ob.tri_end = ob.tri_begin;
+    if (kept.empty()) continue;
+
+    // Per kept triangle: bounds and centroid, then a median-split BVH over a permutation.
+    const auto nk = static_cast<Eigen::Index>(kept.size());
+    Eigen::Matrix3Xd tlo(3, nk), thi(3, nk);
+    std::vector<double> cent(3 * kept.size());
+    for (Eigen::Index i = 0; i < nk; ++i) {
+      const std::uint32_t t = kept[static_cast<std::size_t>(i)];
+      const auto a = ob.vertices.col(ob.indices[3 * t]);
+      const auto b = ob.vertices.col(ob.indices[3 * t + 1]);
+      const auto c = ob.vertices.col(ob.indices[3 * t + 2]);
+      tlo.col(i) = a.cwiseMin(b).cwiseMin(c);
+      thi.col(i) = a.cwiseMax(b).cwiseMax(c);
+      for (int k = 0; k < 3; ++k)
+        cent[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(k)] = (a[k] + b[k] + c[k]) / 3.0;
+    }
+    std::vector<std::uint32_t> perm(kept.size());
+    for (std::size_t i = 0; i < perm.size(); ++i) perm[i] = static_cast<std::uint32_t>(i);
+    // Pad: many orders of magnitude above double rounding in the kernel (~1e-15 scale).
+    const double pad = 1e-9 * scale;
+    ob.root = build_node(0, static_cast<std::uint32_t>(perm.size()), cent, perm, tlo, thi, pad);
+
+    // Store the triangles in leaf order; node triangle indices become global slots.
+    for (std::uint32_t i : perm) {
+      const std::uint32_t t = kept[i];
+      const Eigen::Vector3d a = ob.vertices.col(ob.indices[3 * t]);
+      const Eigen::Vector3d ab = ob.vertices.col(ob.indices[3 * t + 1]) - a;
+      const Eigen::Vector3d ac = ob.vertices.col(ob.indices[3 * t + 2]) - a;
+      const Eigen::Vector3d n = unit_normal(ab, ac);
+      ax_.push_back(a.x()), ay_.push_back(a.y()), az_.push_back(a.z());
+      bx_.push_back(ab.x()), by_.push_back(ab.y()), bz_.push_back(ab.z());
+      cx_.push_back(ac.x()), cy_.push_back(ac.y()), cz_.push_back(ac.z());
+      nx_.push_back(n.x()), ny_.push_back(n.y()), nz_.push_back(n.z());
+      ob.input_to_kept[t] = static_cast<std::int32_t>(orig_.size());
+      orig_.push_back(static_cast<std::int32_t>(t));
+    }
+    ob.tri_end = static_cast<std::uint32_t>(orig_.size());
+    for (std::size_t ni = ob.root; ni < nodes_.size(); ++ni)
+      if (nodes_[ni].count > 0) nodes_[ni].index += ob.tri_begin;
+    // The padded root box, so the early-out never rejects what a query would find.
+    for (int k = 0; k < 3; ++k) {
+      lo_[k] = std::min(lo_[k], static_cast<double>(nodes_[ob.root].lo[k]));
+      hi_[k] = std::max(hi_[k], static_cast<double>(nodes_[ob.root].hi[k]));
+    }
+  }
+  if (orig_.empty()) lo_.setZero(), hi_.setZero();
+  built_ = true;
+}
+
+std::uint32_t ColliderSet::build_node(std::uint32_t begin, std::uint32_t end,
+                                      std::vector<double>& cent, std::vector<std::uint32_t>& perm,
+                                      const Eigen::Matrix3Xd& tlo, const Eigen::Matrix3Xd& thi,
+                                      double pad) {
+  const auto self = static_cast<std::uint32_t>(nodes_.size());
+  nodes_.push_back(Node{});
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()),
+                  hi = -lo, clo = lo, chi = hi;
+  for (std::uint32_t i = begin; i < end; ++i) {
+    const std::uint32_t t = perm[i];
+    lo = lo.cwiseMin(tlo.col(t));
+    hi = hi.cwiseMax(thi.col(t));
+    const Eigen::Vector3d c(cent[3 * t], cent[3 * t + 1], cent[3 * t + 2]);
+    clo = clo.cwiseMin(c);
+    chi = chi.cwiseMax(c);
+  }
+  Node n{};
+  for (int k = 0; k < 3; ++k) n.lo[k] = round_down(lo[k], pad), n.hi[k] = round_up(hi[k], pad);
+  constexpr std::uint32_t kLeafSize = 4;
+  if (end - begin <= kLeafSize) {
+    n.index = begin;  // local slot, made global by build()
+    n.count = end - begin;
+    nodes_[self] = n;
+    return self;
+  }
+  // Median split along the longest centroid extent; ties in position broken by index so the
+  // tree does not depend on the standard library's nth_element.
+  int axis = 0;
+  const Eigen::Vector3d ext = chi - clo;
+  if (ext[1] > ext[axis]) axis = 1;
+  if (ext[2] > ext[axis]) axis = 2;
+  const std::uint32_t mid = begin + (end - begin) / 2;
+  std::nth_element(perm.begin() + begin, perm.begin() + mid, perm.begin() + end,
+                   [&](std::uint32_t x, std::uint32_t y) {
+                     const double cx = cent[3 * x + static_cast<std::uint32_t>(axis)];
+                     const double cy = cent[3 * y + static_cast<std::uint32_t>(axis)];
+                     return cx < cy || (cx == cy && x < y);
+                   });
+  build_node(begin, mid, cent, perm, tlo, thi, pad);  // left = self + 1
+  const std::uint32_t right = build_node(mid, end, cent, perm, tlo, thi, pad);
+  n.index = right;
+  n.count = 0;
+  nodes_[self] = n;
+  return self;
+}
+
+ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double radius_sq,
+                                      QueryMethod method, std::int32_t hint) const {
+  const Object& ob = objects_[o];
+  ColliderHit hit;
+  if (ob.tri_end == ob.tri_begin) return hit;
+  double best = radius_sq;
+  std::int32_t best_tri = std::numeric_limits<std::int32_t>::max();
+  std::uint32_t best_slot = 0;
+  double best_s = 0.0;
+  bool found = false;
+
+  const auto test = [&](std::uint32_t slot) {
+    const detail::Tri t{ax_[slot], ay_[slot], az_[slot], bx_[slot], by_[slot], bz_[slot],
+                        cx_[slot], cy_[slot], cz_[slot], nx_[slot], ny_[slot], nz_[slot]};
+    double s, v, w;
+    TriangleRegion region;
+    const double d2 = detail::closest_sq(p, t, s, v, w, region);
+    if (d2 <= radius_sq && better(d2, orig_[slot], best, best_tri)) {
+      best = d2, best_tri = orig_[slot], best_slot = slot, best_s = s, found = true;
+    }
+  };
+
+  if (method == QueryMethod::BruteForce) {
+    for (std::uint32_t slot = ob.tri_begin; slot < ob.tri_end; ++slot) test(slot);
+  } else {
+    if (hint >= 0 && static_cast<std::size_t>(hint) < ob.input_to_kept.size()) {
+      const std::int32_t slot = ob.input_to_kept[static_cast<std::size_t>(hint)];
+      if (slot >= 0) test(static_cast<std::uint32_t>(slot));
+    }
+    // Depth-first, nearer child first; prune boxes strictly farther than the best so far
+    // (equal distance may hide a lower-index tie).
+    struct Entry {
+      std::uint32_t node;
+      double d2;
+    };
+    Entry stack[64];
+    int top = 0;
+    std::uint32_t ni = ob.root;
+    if (box_dist_sq(nodes_[ni], p) > best) goto done;
+    for (;;) {
+      const Node& n = nodes_[ni];
+      if (n.count > 0) {
+        for (std::uint32_t slot = n.index; slot < n.index + n.count; ++slot) test(slot);
+      } else {
+        const std::uint32_t l = ni + 1, r = n.index;
+        const double dl = box_dist_sq(nodes_[l], p), dr = box_dist_sq(nodes_[r], p);
+        const bool lok = dl <= best, rok = dr <= best;
+        if (lok && rok) {
+          const bool left_first = dl <= dr;
+          stack[top++] = left_first ? Entry{r, dr} : Entry{l, dl};
+          ni = left_first ? l : r;
+          continue;
+        }
+        if (lok || rok) {
+          ni = lok ? l : r;
+          continue;
+        }
+      }
+      // Pop the next box still within reach.
+      for (;;) {
+        if (top == 0) goto done;
+        const Entry e = stack[--top];
+        if (e.d2 <= best) {
+          ni = e.node;
+          break;
+        }
+      }
+    }
+  done:;
+  }
+  if (!found) return hit;
+  hit.object = static_cast<std::int32_t>(o);
+  hit.triangle = best_tri;
+  hit.distance_sq = best;
+  hit.signed_distance = detail::signed_distance(best, best_s);
+  hit.normal = Eigen::Vector3d(nx_[best_slot], ny_[best_slot], nz_[best_slot]);
+  return hit;
+}
+
+std::size_t ColliderSet::query(const Eigen::Vector3d& p, double radius,
+                               std::span<ColliderHit> out, QueryMethod method,
+                               std::span<std::int32_t> hints) const {
+  if (!built_) throw std::logic_error("ColliderSet::query() before build()");
+  if (out.size() != objects_.size())
+    throw std::invalid_argument("ColliderSet::query(): out needs one entry per object");
+  if (!hints.empty() && hints.size() != objects_.size())
+    throw std::invalid_argument("ColliderSet::query(): hints need one entry per object");
+  const double pp[3] = {p.x(), p.y(), p.z()};
+  const double r2 = radius * radius;
+  std::size_t hits = 0;
+  for (std::size_t o = 0; o < objects_.size(); ++o) {
+    out[o] = query_object(o, pp, r2, method, hints.empty() ? -1 : hints[o]);
+    if (out[o].valid()) ++hits;
+    if (!hints.empty()) hints[o] = out[o].triangle;
+  }
+  return hits;
+}
+
+ColliderHit ColliderSet::closest(const Eigen::Vector3d& p, double radius,
+                                 QueryMethod method) const {
+  if (!built_) throw std::logic_error("ColliderSet::closest() before build()");
+  const double pp[3] = {p.x(), p.y(), p.z()};
+  ColliderHit best;
+  for (std::size_t o = 0; o < objects_.size(); ++o) {
+    const ColliderHit h = query_object(o, pp, radius * radius, method, -1);
+    if (h.valid() && (!best.valid() || h.distance_sq < best.distance_sq)) best = h;
+  }
+  return best;
+}
+
+void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, double eps,
+                        double k_rep, Eigen::Matrix3Xd& f, PenaltyStats& stats,
+                        std::span<std::int32_t> hints, QueryMethod method) {
+  if (!set.built()) throw std::logic_error("accumulate_penalty(): ColliderSet not built");
+  if (f.cols() != x.cols())
+    throw std::invalid_argument("accumulate_penalty(): f and x differ in size");
+  const std::size_t no = set.object_count();
+  const auto n = static_cast<std::size_t>(x.cols());
+  if (!hints.empty() && hints.size() != n * no)
+    throw std::invalid_argument("accumulate_penalty(): hints need points * objects entries");
+  stats = PenaltyStats{};
+  if (no == 0 || set.triangle_count() == 0) return;
+
+  // Search to 2 eps so that points just past the band behind a surface are seen (tunnelled).
+  const double reach = 2.0 * eps, reach_sq = reach * reach;
+  const Eigen::Vector3d lo = set.bounds_min(), hi = set.bounds_max();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto ii = static_cast<Eigen::Index>(i);
+    const double p[3] = {x(0, ii), x(1, ii), x(2, ii)};
+    if (!std::isfinite(p[0] + p[1] + p[2])) {
+      ++stats.nonfinite_points;
+      continue;
+    }
+    if (box_dist_sq(lo, hi, p) > reach_sq) {  // far from every collider
+      if (!hints.empty()) std::fill_n(hints.begin() + static_cast<std::ptrdiff_t>(i * no), no, -1);
+      continue;
+    }
+    for (std::size_t o = 0; o < no; ++o) {
+      const std::int32_t hint = hints.empty() ? -1 : hints[i * no + o];
+      const ColliderHit h = set.query_object(o, p, reach_sq, method, hint);
+      if (!hints.empty()) hints[i * no + o] = h.triangle;
+      if (!h.valid()) continue;
+      const double d = h.signed_distance;
+      if (d < 0.0) stats.max_penetration = std::max(stats.max_penetration, -d);
+      if (d > eps) continue;
+      if (d < -eps) {
+        ++stats.tunnelled;
+        continue;
+      }
+      ++stats.contacts;
+      f.col(ii) += (k_rep * (eps - d)) * h.normal;
+    }
+  }
+}
+
+}  // namespace clothsim
