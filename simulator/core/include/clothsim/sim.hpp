@@ -20,6 +20,13 @@ namespace clothsim {
 /// Time integrators. The seed's method is the default.
 enum class Integrator : std::uint8_t {
   SymplecticEuler,  ///< report eqs. 1-7: x += h v(t); f at x(t+h); v += h (f - gamma v)/m
+  // Added for the work-precision study (issue 5); see integrators.hpp.
+  ExplicitEuler,    ///< forward Euler: order 1, energy grows
+  Verlet,           ///< leapfrog (drift-kick-drift): order 2, symplectic
+  Midpoint,         ///< explicit midpoint (RK2): order 2
+  RK4,              ///< classic Runge-Kutta: order 4
+  ImplicitEuler,    ///< Baraff & Witkin 1998: one Newton step, CG
+  FastMassSpring,   ///< Liu et al. 2013: local/global with a prefactored Cholesky
 };
 
 struct Options {
