@@ -1,0 +1,202 @@
+// Penalty response, report eq. 12 with the unit normal: magnitude, direction, sums over
+// colliders, closest triangle per object, tunnelling, and the resting depth eps - m g / k_rep.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "clothsim/collision.hpp"
+#include "clothsim/collision_meshes.hpp"
+
+using clothsim::accumulate_penalty;
+using clothsim::ColliderSet;
+using clothsim::PenaltyStats;
+using Eigen::Vector3d;
+
+namespace {
+
+constexpr double kEps = 0.1;
+constexpr double kRep = 1000.0;
+
+ColliderSet floor_set(double y = 0.0) {
+  ColliderSet set;
+  const auto m = clothsim::meshes::floor_grid(4, 2.0, y);
+  set.add_object("floor", m.vertices, m.indices);
+  set.build();
+  return set;
+}
+
+// Force on one point.
+Vector3d force_at(const ColliderSet& set, const Vector3d& p, PenaltyStats* stats = nullptr,
+                  double k_rep = kRep) {
+  Eigen::Matrix3Xd x(3, 1), f = Eigen::Matrix3Xd::Zero(3, 1);
+  x.col(0) = p;
+  PenaltyStats s;
+  accumulate_penalty(set, x, kEps, k_rep, f, s);
+  if (stats) *stats = s;
+  return f.col(0);
+}
+
+}  // namespace
+
+TEST(CollisionPenalty, MagnitudeAndDirectionInTheBand) {
+  const ColliderSet set = floor_set();
+  PenaltyStats s;
+  // Above the floor inside the band: k (eps - d) along the unit normal +y.
+  Vector3d f = force_at(set, Vector3d(0.3, 0.04, -0.7), &s);
+  EXPECT_NEAR(f.y(), kRep * (kEps - 0.04), 1e-9);
+  EXPECT_EQ(f.x(), 0.0);
+  EXPECT_EQ(f.z(), 0.0);
+  EXPECT_EQ(s.contacts, 1u);
+  EXPECT_EQ(s.max_penetration, 0.0);
+  // Behind the floor inside the band: pushed up harder, penetration reported as >= 0.
+  f = force_at(set, Vector3d(0.3, -0.06, -0.7), &s);
+  EXPECT_NEAR(f.y(), kRep * (kEps + 0.06), 1e-9);
+  EXPECT_NEAR(s.max_penetration, 0.06, 1e-15);
+  // Outside the band: nothing.
+  f = force_at(set, Vector3d(0.3, 0.1000001, -0.7), &s);
+  EXPECT_EQ(f, Vector3d::Zero());
+  EXPECT_EQ(s.contacts, 0u);
+}
+
+TEST(CollisionPenalty, AddsToTheForceAndNeverOverwrites) {
+  const ColliderSet set = floor_set();
+  Eigen::Matrix3Xd x(3, 2), f(3, 2);
+  x.col(0) = Vector3d(0, 0.05, 0);
+  x.col(1) = Vector3d(0, 5.0, 0);
+  f.col(0) = Vector3d(1, 2, 3);
+  f.col(1) = Vector3d(4, 5, 6);
+  PenaltyStats s;
+  accumulate_penalty(set, x, kEps, kRep, f, s);
+  EXPECT_NEAR(f(1, 0), 2 + kRep * 0.05, 1e-9);
+  EXPECT_EQ(f(0, 0), 1.0);
+  EXPECT_EQ(f.col(1), Vector3d(4, 5, 6));
+}
+
+TEST(CollisionPenalty, TunnelledPointsGetNoForceAndAreCounted) {
+  const ColliderSet set = floor_set();
+  PenaltyStats s;
+  const Vector3d f = force_at(set, Vector3d(0.5, -0.15, 0.5), &s);
+  EXPECT_EQ(f, Vector3d::Zero());
+  EXPECT_EQ(s.tunnelled, 1u);
+  EXPECT_EQ(s.contacts, 0u);
+  EXPECT_NEAR(s.max_penetration, 0.15, 1e-15);
+}
+
+TEST(CollisionPenalty, PointBetweenFloorAndWallGetsBoth) {
+  // The 2016 code zeroed contact forces per collider: the second erased the first.
+  ColliderSet set;
+  const auto floor = clothsim::meshes::floor_grid(2, 1.0, 0.0);
+  set.add_object("floor", floor.vertices, floor.indices);
+  // A wall in the plane x = 1 facing -x (towards the floor's centre).
+  Eigen::Matrix3Xd w(3, 4);
+  w << 1, 1, 1, 1,  //
+      -1, -1, 2, 2,  //
+      -1, 1, -1, 1;
+  set.add_object("wall", w, std::vector<std::uint32_t>{0, 1, 2, 1, 3, 2});
+  set.build();
+  PenaltyStats s;
+  const Vector3d f = force_at(set, Vector3d(0.97, 0.02, 0.3), &s);
+  EXPECT_EQ(s.contacts, 2u);
+  EXPECT_NEAR(f.y(), kRep * (kEps - 0.02), 1e-9);
+  EXPECT_NEAR(f.x(), -kRep * (kEps - 0.03), 1e-9);
+  EXPECT_NEAR(f.z(), 0.0, 1e-12);
+}
+
+TEST(CollisionPenalty, ClosedMeshPushesOutwardFromInsideAndOutside) {
+  ColliderSet set;
+  const auto s = clothsim::meshes::icosphere(3, 1.0);
+  set.add_object("sphere", s.vertices, s.indices);
+  set.build();
+  const Vector3d dir = Vector3d(0.3, 0.8, -0.2).normalized();
+  for (double r : {0.96, 1.05}) {  // just inside and just outside
+    const Vector3d f = force_at(set, r * dir);
+    EXPECT_GT(f.dot(dir), 0.0) << "r " << r;
+  }
+}
+
+TEST(CollisionPenalty, ClosestTrianglePerObjectOnAnIcosphere) {
+  // Summing every triangle within the band would multiply the force at a vertex (5-6 faces).
+  ColliderSet set;
+  const auto m = clothsim::meshes::icosphere(3, 1.0);
+  set.add_object("sphere", m.vertices, m.indices);
+  set.build();
+  const double h = 0.03;  // distance outside the surface
+  // Above vertex 0 (a vertex of the base icosahedron, 5 faces around it).
+  const Vector3d v0 = m.vertices.col(0);
+  const Vector3d fv = force_at(set, v0 * (1.0 + h));
+  // Above the centre of face 0 at the same distance along its normal.
+  const Vector3d a = m.vertices.col(m.indices[0]), b = m.vertices.col(m.indices[1]),
+                 c = m.vertices.col(m.indices[2]);
+  const Vector3d n = (b - a).cross(c - a).normalized();
+  const Vector3d ff = force_at(set, (a + b + c) / 3.0 + h * n);
+  EXPECT_NEAR(fv.norm(), kRep * (kEps - h), 1e-9);
+  EXPECT_NEAR(ff.norm(), kRep * (kEps - h), 1e-9);
+  EXPECT_NEAR(fv.norm() / ff.norm(), 1.0, 1e-9);
+  // Direction: the face normal, within the small tilt of a level-3 icosphere's faces.
+  EXPECT_GT(fv.normalized().dot(v0.normalized()), std::cos(0.1));
+}
+
+TEST(CollisionPenalty, RestingDepthIsEpsMinusWeightOverKrep) {
+  // A single mass on a floor triangle under gravity with damping, integrated with a tiny
+  // symplectic Euler loop (report eqs. 1-7): it settles at d = eps - m g / k_rep.
+  ColliderSet set;
+  Eigen::Matrix3Xd v(3, 3);
+  v << -5, 0, 5,  //
+      0, 0, 0,    //
+      -5, 5, -5;
+  set.add_object("floor", v, std::vector<std::uint32_t>{0, 1, 2});
+  set.build();
+  ASSERT_GT(set.closest(Vector3d(0, 1, 0), 2.0).normal.y(), 0.0);  // faces up
+  const double m = 0.1, g = 9.81, k_rep = 50.0, gamma = 1.0, h = 0.001;
+  Eigen::Matrix3Xd x(3, 1), vel = Eigen::Matrix3Xd::Zero(3, 1), f(3, 1);
+  x.col(0) = Vector3d(0.0, 0.2, 0.0);  // enters the band at 1.4 m/s < eps sqrt(k/m)
+  PenaltyStats s;
+  double deepest = 0.0;
+  for (int i = 0; i < 20000; ++i) {
+    x += h * vel;
+    f.col(0) = Vector3d(0, -m * g, 0);
+    accumulate_penalty(set, x, kEps, k_rep, f, s);
+    deepest = std::max(deepest, s.max_penetration);
+    vel += h * (f - gamma * vel) / m;
+  }
+  const double expected = kEps - m * g / k_rep;  // 0.08038
+  EXPECT_NEAR(x(1, 0), expected, 1e-9);
+  EXPECT_NEAR(vel.norm(), 0.0, 1e-9);
+  EXPECT_EQ(deepest, 0.0);  // dropped from 0.2 m: stopped inside the band, never behind
+}
+
+TEST(CollisionPenalty, NonFinitePointsAreCountedNotPassedOn) {
+  const ColliderSet set = floor_set();
+  Eigen::Matrix3Xd x(3, 2), f = Eigen::Matrix3Xd::Zero(3, 2);
+  x.col(0) = Vector3d(NAN, 0.05, 0);
+  x.col(1) = Vector3d(0, 0.05, 0);
+  PenaltyStats s;
+  accumulate_penalty(set, x, kEps, kRep, f, s);
+  EXPECT_EQ(s.nonfinite_points, 1u);
+  EXPECT_TRUE(f.allFinite());
+  EXPECT_EQ(s.contacts, 1u);
+}
+
+TEST(CollisionPenalty, MisuseThrows) {
+  ColliderSet unbuilt;
+  Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Zero(3, 2), f = Eigen::Matrix3Xd::Zero(3, 2);
+  PenaltyStats s;
+  EXPECT_THROW(accumulate_penalty(unbuilt, x, kEps, kRep, f, s), std::logic_error);
+  const ColliderSet set = floor_set();
+  Eigen::Matrix3Xd f1 = Eigen::Matrix3Xd::Zero(3, 1);
+  EXPECT_THROW(accumulate_penalty(set, x, kEps, kRep, f1, s), std::invalid_argument);
+  std::vector<std::int32_t> hints(3, -1);  // needs 2 points * 1 object
+  EXPECT_THROW(accumulate_penalty(set, x, kEps, kRep, f, s, hints), std::invalid_argument);
+}
+
+TEST(CollisionPenalty, EmptySetGivesNoForce) {
+  ColliderSet set;
+  set.build();
+  Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Zero(3, 3), f = Eigen::Matrix3Xd::Zero(3, 3);
+  PenaltyStats s;
+  accumulate_penalty(set, x, kEps, kRep, f, s);
+  EXPECT_EQ(f, Eigen::Matrix3Xd::Zero(3, 3));
+  EXPECT_EQ(s.contacts, 0u);
+}
