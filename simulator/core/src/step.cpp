@@ -25,7 +25,9 @@ Workspace make_workspace(const Model& model) {
   for (std::size_t i = 0; i < model.pinned.size(); ++i)
     if (model.pinned[i]) ws.pinned_index.push_back(static_cast<std::uint32_t>(i));
   ws.pinned_x = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(ws.pinned_index.size()));
-  ws.contact_hint.assign(model.mass_count(), 0xFFFFFFFFu);
+#ifdef CLOTHSIM_HAVE_COLLISION
+  if (model.colliders) ws.contact_hint.assign(model.mass_count() * model.colliders->object_count(), -1);
+#endif
   return ws;
 }
 
@@ -64,7 +66,8 @@ void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::
 #ifdef CLOTHSIM_HAVE_COLLISION
   if (model.colliders) {
     PenaltyStats stats;
-    accumulate_penalty(*model.colliders, x, o.epsilon, o.k_rep, f, stats, ws.contact_hint);
+    accumulate_penalty(*model.colliders, x, o.epsilon, o.k_rep, f, stats,
+                       std::span<std::int32_t>(ws.contact_hint));
     ws.last_penetration = stats.max_penetration;
     ws.last_contacts = static_cast<std::uint32_t>(stats.contacts);
   }

@@ -13,7 +13,7 @@ struct Workspace {
   Eigen::Matrix3Xd f;                        ///< (3 x n) total force at the current stage, N
   Eigen::Matrix3Xd pinned_x;                 ///< (3 x p) positions of the pinned masses, saved per step
   std::vector<std::uint32_t> pinned_index;   ///< (p) the pinned masses
-  std::vector<std::uint32_t> contact_hint;   ///< (n) collision hints (collider-specific cache)
+  std::vector<std::int32_t> contact_hint;    ///< (n x colliders) closest-triangle hints, -1 = none
   Drag drag;                                 ///< the drag of the state being stepped
   double last_penetration = 0.0;             ///< m, deepest point behind a collider in the last force stage
   std::uint32_t last_contacts = 0;           ///< points inside a collider band in the last force stage
