@@ -1,5 +1,6 @@
 // Forces and time integration (report eqs. 1-7). Nothing here allocates after make_workspace().
 #include <clothsim/step.hpp>
+#include <clothsim/integrators.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -115,10 +116,9 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
     case Integrator::SymplecticEuler:
       step_symplectic_euler(model, state, ws);
       break;
-    default:
-      // An integrator this build does not implement: report it as a failed step
-      // rather than silently using another method.
-      return StepStatus{false};
+    default:  // the other integrators (integrators.cpp, issue 5)
+      integrate(model, state, ws);
+      break;
   }
   state.t += model.options.dt;
   ++state.steps;

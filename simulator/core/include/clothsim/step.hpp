@@ -4,6 +4,7 @@
 #include <clothsim/sim.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace clothsim {
@@ -17,6 +18,8 @@ struct Workspace {
   Drag drag;                                 ///< the drag of the state being stepped
   double last_penetration = 0.0;             ///< m, deepest point behind a collider in the last force stage
   std::uint32_t last_contacts = 0;           ///< points inside a collider band in the last force stage
+  /// Scratch of the other integrators (integrators.hpp); shared by copies of the Workspace.
+  std::shared_ptr<struct IntegratorScratch> integrator_scratch;
 };
 
 Workspace make_workspace(const Model& model);

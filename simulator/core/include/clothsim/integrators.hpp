@@ -1,0 +1,76 @@
+// Time integrators beyond the seed's symplectic Euler (issue 5), chosen at run time.
+//
+// Every method calls the one force stage, compute_forces() of step.hpp (gravity, the damping
+// of report eq. 6, springs, penalty contact, drag); the implicit ones add the spring Jacobian.
+// step() dispatches here for every Integrator other than SymplecticEuler.
+//
+//   explicit-euler     x += h v(t); v += h a(x(t), v(t))             order 1, energy grows
+//   symplectic-euler   the core's (report eqs. 1-7)                   order 1, symplectic
+//   verlet             leapfrog drift-kick-drift, damping by implicit midpoint
+//                                                                     order 2, symplectic, 1 force/step
+//   midpoint           explicit midpoint (RK2)                        order 2, 2 forces/step
+//   rk4                classic Runge-Kutta                            order 4, 4 forces/step
+//   implicit-euler     Baraff & Witkin 1998: one Newton step, (M + h gamma + h^2 K) dv =
+//                      h (f - h K v), matrix-free block-Jacobi CG; contact explicit
+//   fast-mass-spring   Liu et al. 2013: implicit Euler by local/global iterations with a
+//                      prefactored sparse Cholesky (rebuilt when dt or stiffness change)
+#pragma once
+
+#include <clothsim/sim.hpp>
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace clothsim {
+
+struct Workspace;
+
+/// Every integrator, the seed's first.
+std::span<const Integrator> all_integrators();
+
+/// The command-line name, e.g. "symplectic-euler", "rk4", "fast-mass-spring".
+const char* to_string(Integrator method);
+
+/// Parses a command-line name (also "leapfrog", "rk2", "baraff-witkin", "liu");
+/// std::nullopt when unknown.
+std::optional<Integrator> parse_integrator(std::string_view name);
+
+/// "symplectic-euler, explicit-euler, ..." for error messages and --help.
+std::string integrator_names();
+
+/// Order of accuracy the theory gives (global error ~ h^order).
+int integrator_order(Integrator method);
+
+/// Force-stage evaluations per step (the implicit ones: one, plus their solves).
+int force_evaluations(Integrator method);
+
+/// Scratch of the integrators other than symplectic Euler, sized once per Model.
+/// Kept by the Workspace; the implicit solvers keep their factorization here.
+struct IntegratorScratch;
+std::shared_ptr<IntegratorScratch> make_integrator_scratch(const Model& model);
+
+/// Tuning of the implicit solvers (defaults used by step()).
+struct ImplicitSettings {
+  double cg_tolerance = 1e-8;     ///< relative residual of the CG solve
+  int cg_max_iterations = 500;
+  int fms_iterations = 10;        ///< local/global iterations per step (Liu et al. use ~10)
+};
+void set_implicit_settings(IntegratorScratch& scratch, const ImplicitSettings& settings);
+
+/// Statistics of the last implicit solve (for docs and tests).
+struct ImplicitStats {
+  int cg_iterations = 0;
+  double cg_residual = 0.0;
+  int factorizations = 0;  ///< times the fast mass-spring matrix was factored so far
+};
+ImplicitStats implicit_stats(const IntegratorScratch& scratch);
+
+/// Advances state.x/state.v by model.options.dt with model.options.integrator (any method
+/// but SymplecticEuler, which step() does itself). Pinned masses keep their exact bits.
+/// Does not touch state.t/steps (step() does). The explicit methods never allocate.
+void integrate(const Model& model, State& state, Workspace& ws);
+
+}  // namespace clothsim

@@ -1,0 +1,342 @@
+// The stability guard; see stability.hpp and docs/stability.md.
+#include <clothsim/integrators.hpp>
+#include <clothsim/stability.hpp>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <stdexcept>
+#include <vector>
+
+#ifdef CLOTHSIM_HAVE_COLLISION
+#include <clothsim/collision.hpp>
+#endif
+
+namespace clothsim {
+
+namespace {
+
+double min_free_mass(const Model& m) {
+  double r = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < m.mass_count(); ++i)
+    if (!m.pinned[i]) r = std::min(r, m.mass[static_cast<Eigen::Index>(i)]);
+  return r;
+}
+double max_free_mass(const Model& m) {
+  double r = 0.0;
+  for (std::size_t i = 0; i < m.mass_count(); ++i)
+    if (!m.pinned[i]) r = std::max(r, m.mass[static_cast<Eigen::Index>(i)]);
+  return r;
+}
+bool has_colliders(const Model& m) {
+#ifdef CLOTHSIM_HAVE_COLLISION
+  return m.colliders && m.colliders->triangle_count() > 0;
+#else
+  return m.colliders != nullptr;
+#endif
+}
+
+}  // namespace
+
+double omega_max_bound(const Model& model, bool include_contact) {
+  const std::size_t n = model.mass_count();
+  const double kc = include_contact && has_colliders(model) ? model.options.k_rep : 0.0;
+  std::vector<double> diag(n, kc), off(n, 0.0);
+  for (std::size_t s = 0; s < model.spring_count(); ++s) {
+    const double k = model.stiffness[static_cast<Eigen::Index>(s)];
+    const auto a = model.spring_a[s], b = model.spring_b[s];
+    diag[a] += k;
+    diag[b] += k;
+    // off-diagonal blocks only couple free masses (pinned ones are not unknowns)
+    if (!model.pinned[b]) off[a] += k;
+    if (!model.pinned[a]) off[b] += k;
+  }
+  double w2 = 0.0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!model.pinned[i]) w2 = std::max(w2, (diag[i] + off[i]) / model.mass[static_cast<Eigen::Index>(i)]);
+  return std::sqrt(w2);
+}
+
+OmegaEstimate omega_max_power(const Model& model, const Eigen::Matrix3Xd* x, int max_iterations,
+                              double tolerance) {
+  const Eigen::Matrix3Xd& pos = x ? *x : model.x0;
+  const auto n = static_cast<Eigen::Index>(model.mass_count());
+  std::vector<Eigen::Matrix3d> blocks(model.spring_count());
+  for (std::size_t s = 0; s < model.spring_count(); ++s) {
+    const Eigen::Vector3d e = pos.col(model.spring_a[s]) - pos.col(model.spring_b[s]);
+    const double len = e.norm(), k = model.stiffness[static_cast<Eigen::Index>(s)];
+    if (len <= 0.0) {
+      blocks[s] = k * Eigen::Matrix3d::Identity();
+      continue;
+    }
+    const Eigen::Vector3d nrm = e / len;
+    const Eigen::Matrix3d nn = nrm * nrm.transpose();
+    const double c = std::max(0.0, 1.0 - model.rest_length0[static_cast<Eigen::Index>(s)] / len);
+    blocks[s] = k * (nn + c * (Eigen::Matrix3d::Identity() - nn));
+  }
+  Eigen::VectorXd inv_sqrt_m(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    inv_sqrt_m[i] = model.pinned[static_cast<std::size_t>(i)] ? 0.0 : 1.0 / std::sqrt(model.mass[i]);
+
+  Eigen::Matrix3Xd q(3, n), u(3, n), w(3, n);
+  std::uint64_t seed = 0x9E3779B97F4A7C15ull;  // fixed: results are reproducible
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+    q.data()[i] = static_cast<double>(seed >> 11) * 0x1.0p-53 - 0.5;
+  }
+  auto apply = [&](const Eigen::Matrix3Xd& in, Eigen::Matrix3Xd& out) {
+    u = (in.array().rowwise() * inv_sqrt_m.transpose().array()).matrix();
+    out.setZero();
+    for (std::size_t s = 0; s < model.spring_count(); ++s) {
+      const Eigen::Vector3d t = blocks[s] * (u.col(model.spring_a[s]) - u.col(model.spring_b[s]));
+      out.col(model.spring_a[s]) += t;
+      out.col(model.spring_b[s]) -= t;
+    }
+    out = (out.array().rowwise() * inv_sqrt_m.transpose().array()).matrix();
+  };
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (inv_sqrt_m[i] == 0.0) q.col(i).setZero();
+  OmegaEstimate est;
+  double qn = q.norm();
+  if (qn == 0.0 || model.spring_count() == 0) return est;
+  q /= qn;
+  double lambda = 0.0, lambda_old = 0.0;
+  int flat = 0;
+  for (int it = 1; it <= max_iterations; ++it) {
+    apply(q, w);
+    lambda = (q.array() * w.array()).sum();
+    est.iterations = it;
+    if (!(lambda > 0.0)) break;
+    est.residual = (w - lambda * q).norm() / lambda;
+    if (est.residual < tolerance) break;
+    // Near-degenerate top eigenvalues stall the residual but not the Rayleigh quotient.
+    flat = std::abs(lambda - lambda_old) <= 1e-12 * lambda ? flat + 1 : 0;
+    if (flat >= 50) break;
+    lambda_old = lambda;
+    q = w / w.norm();
+  }
+  est.omega = std::sqrt(std::max(lambda, 0.0));
+  return est;
+}
+
+double omega_contact(const Model& model) {
+  if (!has_colliders(model)) return 0.0;
+  const double m = min_free_mass(model);
+  return std::isfinite(m) ? std::sqrt(model.options.k_rep / m) : 0.0;
+}
+
+double stable_dt(Integrator method, double omega, double zeta) {
+  if (!(omega > 0.0)) return std::numeric_limits<double>::infinity();
+  const double w2 = omega * omega;
+  // The method's one-step map on (x, v) for x'' = -w2 x - 2 zeta v, as the code does it.
+  auto map = [&](double h, double x, double v, double& x1, double& v1) {
+    auto a = [&](double xx, double vv) { return -w2 * xx - 2.0 * zeta * vv; };
+    switch (method) {
+      case Integrator::SymplecticEuler:
+        x1 = x + h * v;
+        v1 = v + h * a(x1, v);
+        break;
+      case Integrator::ExplicitEuler:
+        x1 = x + h * v;
+        v1 = v + h * a(x, v);
+        break;
+      case Integrator::Verlet: {
+        const double xh = x + 0.5 * h * v;
+        v1 = v + h * a(xh, v) / (1.0 + h * zeta);
+        x1 = xh + 0.5 * h * v1;
+        break;
+      }
+      case Integrator::Midpoint: {
+        const double xm = x + 0.5 * h * v, vm = v + 0.5 * h * a(x, v);
+        x1 = x + h * vm;
+        v1 = v + h * a(xm, vm);
+        break;
+      }
+      case Integrator::RK4: {
+        const double k1x = v, k1v = a(x, v);
+        const double k2x = v + 0.5 * h * k1v, k2v = a(x + 0.5 * h * k1x, v + 0.5 * h * k1v);
+        const double k3x = v + 0.5 * h * k2v, k3v = a(x + 0.5 * h * k2x, v + 0.5 * h * k2v);
+        const double k4x = v + h * k3v, k4v = a(x + h * k3x, v + h * k3v);
+        x1 = x + h / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x);
+        v1 = v + h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v);
+        break;
+      }
+      case Integrator::ImplicitEuler: {
+        const double dv = h * (a(x, v) - h * w2 * v) / (1.0 + 2.0 * zeta * h + h * h * w2);
+        v1 = v + dv;
+        x1 = x + h * v1;
+        break;
+      }
+      case Integrator::FastMassSpring: {  // springs implicit, damping explicit
+        x1 = (x + h * v - 2.0 * zeta * h * h * v) / (1.0 + h * h * w2);
+        v1 = (x1 - x) / h;
+        break;
+      }
+    }
+  };
+  auto radius = [&](double h) {
+    double g00 = 0, g10 = 0, g01 = 0, g11 = 0;
+    map(h, 1.0, 0.0, g00, g10);
+    map(h, 0.0, 1.0, g01, g11);
+    const double tr = g00 + g11, det = g00 * g11 - g01 * g10;
+    const std::complex<double> disc = std::sqrt(std::complex<double>(0.25 * tr * tr - det));
+    return std::max(std::abs(0.5 * tr + disc), std::abs(0.5 * tr - disc));
+  };
+  auto stable = [&](double h) { return radius(h) <= 1.0 + 1e-12; };
+  double lo = 1e-6 / omega;
+  if (!stable(lo)) return 0.0;
+  double hi = lo;
+  while (stable(hi)) {
+    lo = hi;
+    hi *= 2.0;
+    if (hi > 1e6 / omega) return std::numeric_limits<double>::infinity();
+  }
+  for (int i = 0; i < 100 && hi - lo > 1e-15 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (stable(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+StabilityReport analyse_stability(const Model& model) {
+  StabilityReport r;
+  r.omega_springs = omega_max_power(model).omega;
+  r.omega_bound = omega_max_bound(model, true);
+  r.omega_contact = omega_contact(model);
+  r.omega_max = std::sqrt(r.omega_springs * r.omega_springs + r.omega_contact * r.omega_contact);
+  const double m_max = max_free_mass(model);
+  r.zeta = m_max > 0.0 ? model.options.damping / (2.0 * m_max) : 0.0;
+  r.dt_stable = stable_dt(model.options.integrator, r.omega_max, r.zeta);
+  r.dt_stable_symplectic = stable_dt(Integrator::SymplecticEuler, r.omega_max, r.zeta);
+  return r;
+}
+
+std::string describe(const StabilityReport& r, Integrator method) {
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "stability: omega_max %.4g rad/s (springs %.4g by power iteration, contact %.4g; "
+                "Gershgorin bound %.4g) -> %s dt_stable %.4g s",
+                r.omega_max, r.omega_springs, r.omega_contact, r.omega_bound, to_string(method),
+                r.dt_stable);
+  return buf;
+}
+
+SubstepPolicy parse_substeps(std::string_view text) {
+  SubstepPolicy p;
+  if (text == "auto") return p;
+  if (text == "off") {
+    p.mode = SubstepPolicy::Mode::Off;
+    return p;
+  }
+  int n = 0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
+  if (ec != std::errc{} || ptr != text.data() + text.size() || n < 1 || n > p.max_substeps)
+    throw std::invalid_argument("--substeps: expected auto, off or a whole number 1.." +
+                                std::to_string(p.max_substeps) + ", got '" + std::string(text) + "'");
+  p.mode = SubstepPolicy::Mode::Fixed;
+  p.count = n;
+  return p;
+}
+
+SubstepPlan plan_substeps(double dt, double dt_stable, const SubstepPolicy& policy) {
+  SubstepPlan plan;
+  char buf[320];
+  if (!(dt > 0.0) || !std::isfinite(dt)) {
+    plan.ok = false;
+    plan.message = "dt must be a finite number > 0";
+    return plan;
+  }
+  switch (policy.mode) {
+    case SubstepPolicy::Mode::Fixed: plan.substeps = policy.count; break;
+    case SubstepPolicy::Mode::Off: plan.substeps = 1; break;
+    case SubstepPolicy::Mode::Auto: {
+      if (!(dt_stable > 0.0)) {
+        plan.ok = false;
+        plan.message = "this integrator is unstable at every step size on this model (no damping); "
+                       "choose another integrator";
+        return plan;
+      }
+      const double need = std::ceil(dt / (policy.margin * dt_stable));
+      if (need > policy.max_substeps) {
+        plan.ok = false;
+        std::snprintf(buf, sizeof buf,
+                      "dt %.4g s would need %.3g substeps to stay under dt_stable %.4g s "
+                      "(more than %d); choose a smaller dt or another integrator",
+                      dt, need, dt_stable, policy.max_substeps);
+        plan.message = buf;
+        return plan;
+      }
+      plan.substeps = std::max(1, static_cast<int>(need));
+      if (plan.substeps > 1) {
+        std::snprintf(buf, sizeof buf,
+                      "dt %.4g s exceeds dt_stable %.4g s: taking %d substeps of %.4g s "
+                      "(--substeps off to refuse instead)",
+                      dt, dt_stable, plan.substeps, dt / plan.substeps);
+        plan.message = buf;
+      }
+      break;
+    }
+  }
+  plan.h = dt / plan.substeps;
+  if (policy.mode != SubstepPolicy::Mode::Auto && !(plan.h < dt_stable)) {
+    plan.ok = false;
+    std::snprintf(buf, sizeof buf,
+                  "step %.4g s is not below the stability limit dt_stable %.4g s (h omega_max "
+                  "too large; the run would blow up): use a smaller dt, --substeps auto or "
+                  "--substeps %d",
+                  plan.h, dt_stable,
+                  dt_stable > 0.0 ? static_cast<int>(std::ceil(dt / (policy.margin * dt_stable))) : 0);
+    plan.message = buf;
+  }
+  return plan;
+}
+
+double max_stoppable_speed(double epsilon, double k_rep, double mass, double h) {
+  return std::min(epsilon * std::sqrt(k_rep / mass), epsilon / h);
+}
+
+TunnellingReport check_tunnelling(const Model& model, double h, double lowest_collider) {
+  TunnellingReport r;
+  const Options& o = model.options;
+  const double g = o.gravity.norm();
+  const double m_max = max_free_mass(model);
+  r.stop_speed = m_max > 0.0 ? o.epsilon * std::sqrt(o.k_rep / m_max) : 0.0;
+  r.see_speed = o.epsilon / h;
+  r.max_speed = std::min(r.stop_speed, r.see_speed);
+  if (!(g > 0.0) || m_max <= 0.0) return r;
+  const Eigen::Vector3d up = -o.gravity / g;
+  if (std::isnan(lowest_collider)) {
+    if (!has_colliders(model)) return r;
+#ifdef CLOTHSIM_HAVE_COLLISION
+    const Eigen::Vector3d lo = model.colliders->bounds_min(), hi = model.colliders->bounds_max();
+    lowest_collider = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3d p((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
+      lowest_collider = std::min(lowest_collider, up.dot(p));
+    }
+#else
+    return r;
+#endif
+  }
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < model.mass_count(); ++i)
+    if (!model.pinned[i]) top = std::max(top, up.dot(model.x0.col(static_cast<Eigen::Index>(i))));
+  r.drop_height = std::max(0.0, top - lowest_collider);
+  r.fall_speed = std::sqrt(2.0 * g * r.drop_height);
+  r.warn = r.fall_speed >= r.max_speed;
+  if (r.warn) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "warning: tunnelling: a fall of %.3g m reaches %.3g m/s, but the contact stops at "
+                  "most %.3g m/s (eps sqrt(k_rep/m) = %.3g, eps/h = %.3g): raise k_rep or epsilon, "
+                  "or lower dt",
+                  r.drop_height, r.fall_speed, r.max_speed, r.stop_speed, r.see_speed);
+    r.message = buf;
+  }
+  return r;
+}
+
+}  // namespace clothsim
