@@ -289,3 +289,42 @@ TEST(Builder, ConcatenatesClothsWithGlobalIndices) {
 
 }  // namespace
 }  // namespace clothsim
+
+// --- contact through the full step (needs the collision module) --------------------------
+#include <clothsim/collision.hpp>
+
+namespace clothsim {
+namespace {
+
+class RestingOnFloor : public ::testing::TestWithParam<double> {};
+
+// A mass dropped onto a floor rests at height d = eps - m g / k_rep above the surface,
+// where the penalty k_rep (eps - d) carries its weight m g.
+TEST_P(RestingOnFloor, DepthIsEpsMinusWeightOverKRep) {
+  Options o;
+  o.k_rep = GetParam();
+  o.damping = 2.0;  // rings down within a few hundred steps
+  ModelBuilder mb(o, "floor");
+  Eigen::Matrix3Xd x(3, 1);
+  x << 0.1, 0.3, 0.2;
+  mb.add_cloth(x, {}, {});
+  auto floor = std::make_shared<ColliderSet>();
+  Eigen::Matrix3Xd fv(3, 4);
+  fv << -1, 1, 1, -1, 0, 0, 0, 0, -1, -1, 1, 1;
+  const std::vector<std::uint32_t> tris{0, 2, 1, 0, 3, 2};  // counter-clockwise seen from +Y
+  floor->add_object("floor", fv, tris);
+  floor->build();
+  mb.set_colliders(floor);
+  const Model m = mb.build();
+  State s = make_state(m);
+  Workspace ws = make_workspace(m);
+  for (int i = 0; i < 3000; ++i) ASSERT_TRUE(step(m, s, ws).finite);
+  const double expected = o.epsilon - o.mass * 9.81 / o.k_rep;
+  EXPECT_NEAR(s.x(1, 0), expected, 1e-9);
+  EXPECT_EQ(s.max_penetration, 0.0);  // never behind the surface
+}
+
+INSTANTIATE_TEST_SUITE_P(KRep, RestingOnFloor, ::testing::Values(50.0, 300.0, 1000.0));
+
+}  // namespace
+}  // namespace clothsim
