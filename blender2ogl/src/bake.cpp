@@ -1,0 +1,247 @@
+// bake: cloth data for the `-a` objects: weld by exact position, springs, triangles, pins.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include "converter.hpp"
+#include "prescan.hpp"
+
+namespace b2o::conv {
+namespace {
+
+struct Key {
+  std::uint32_t x, y, z;
+  bool operator==(const Key&) const = default;
+};
+struct KeyHash {
+  std::size_t operator()(const Key& k) const noexcept {
+    std::uint64_t h = 1469598103934665603ull;
+    for (std::uint32_t v : {k.x, k.y, k.z}) h = (h ^ v) * 1099511628211ull;
+    return static_cast<std::size_t>(h);
+  }
+};
+std::uint32_t bits(float f) {
+  if (f == 0.0f) f = 0.0f;  // -0 and +0 are one position
+  std::uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return u;
+}
+
+double dist2(const float* a, const float* b) {
+  const double dx = double(a[0]) - b[0], dy = double(a[1]) - b[1], dz = double(a[2]) - b[2];
+  return dx * dx + dy * dy + dz * dz;
+}
+
+std::uint32_t nearest_mass(const Cloth& c, const float* p, double& d2) {
+  std::uint32_t best = 0;
+  d2 = std::numeric_limits<double>::infinity();
+  for (std::uint32_t m = 0; m < c.mass_count(); ++m) {
+    const double d = dist2(&c.rest_positions[3 * m], p);
+    if (d < d2) d2 = d, best = m;
+  }
+  return best;
+}
+
+const Object* find_object(const Scene& s, const std::string& want, const std::string& stem) {
+  for (const auto* pass : {&want}) {
+    for (const Object& o : s.objects)
+      if (o.name == *pass) return &o;
+  }
+  // the 2016 tool's `<file>_<Object>` form
+  const std::string prefix = stem + "_";
+  if (want.size() > prefix.size() && want.compare(0, prefix.size(), prefix) == 0) {
+    const std::string rest = want.substr(prefix.size());
+    for (const Object& o : s.objects)
+      if (o.name == rest || o.identifier == rest) return &o;
+  }
+  for (const Object& o : s.objects)
+    if (o.identifier == want) return &o;
+  return nullptr;
+}
+
+std::string object_list(const Scene& s) {
+  std::string list;
+  for (const Object& o : s.objects) list += (list.empty() ? "" : ", ") + ("'" + o.name + "'");
+  return list;
+}
+
+Cloth build_cloth(Scene& s, std::uint32_t object_index, bool reverse, Stats& stats, const std::string& file) {
+  const Object& o = s.objects[object_index];
+  Cloth c;
+  c.object = object_index;
+  std::vector<char> in_face(o.vertex_count, 0);
+  for (std::uint32_t i = o.first_index; i < o.first_index + o.index_count; ++i) in_face[s.indices[i] - o.first_vertex] = 1;
+
+  // Weld by exact position, in order of first appearance.
+  std::unordered_map<Key, std::uint32_t, KeyHash> weld;
+  std::vector<std::uint32_t> vmass(o.vertex_count, std::numeric_limits<std::uint32_t>::max());
+  std::vector<std::vector<std::uint32_t>> members;
+  std::uint32_t loose = 0;
+  for (std::uint32_t v = 0; v < o.vertex_count; ++v) {
+    if (!in_face[v]) {
+      ++loose;
+      continue;
+    }
+    const float* p = &s.positions[3 * (o.first_vertex + v)];
+    const Key k{bits(p[0]), bits(p[1]), bits(p[2])};
+    auto [it, added] = weld.try_emplace(k, static_cast<std::uint32_t>(members.size()));
+    if (added) {
+      members.emplace_back();
+      c.rest_positions.insert(c.rest_positions.end(), {p[0], p[1], p[2]});
+    }
+    members[it->second].push_back(o.first_vertex + v);
+    vmass[v] = it->second;
+  }
+  if (loose > 0) {
+    stats.loose_vertices += loose;
+    s.warnings.push_back(file + ": cloth '" + o.name + "': " + std::to_string(loose) +
+                         " vertices in no face get no mass (vertex_mass = 0xffffffff)");
+  }
+  c.mass_vertex_offsets.push_back(0);
+  for (const auto& m : members) {
+    c.mass_vertices.insert(c.mass_vertices.end(), m.begin(), m.end());
+    c.mass_vertex_offsets.push_back(static_cast<std::uint32_t>(c.mass_vertices.size()));
+  }
+  if (reverse) c.vertex_mass = vmass;
+
+  // Triangles in mass indices; degenerate ones (repeated mass, zero area) left out.
+  struct EdgeInfo {
+    std::uint32_t count = 0;
+    std::uint32_t opposite[2] = {0, 0};
+  };
+  std::map<std::pair<std::uint32_t, std::uint32_t>, EdgeInfo> edges;
+  std::uint32_t degenerate = 0;
+  for (std::uint32_t i = o.first_index; i < o.first_index + o.index_count; i += 3) {
+    const std::uint32_t t[3] = {vmass[s.indices[i] - o.first_vertex], vmass[s.indices[i + 1] - o.first_vertex],
+                                vmass[s.indices[i + 2] - o.first_vertex]};
+    bool bad = t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+    if (!bad) {
+      const float* a = &c.rest_positions[3 * t[0]];
+      const float* b = &c.rest_positions[3 * t[1]];
+      const float* d = &c.rest_positions[3 * t[2]];
+      const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+      const double e2[3] = {double(d[0]) - a[0], double(d[1]) - a[1], double(d[2]) - a[2]};
+      const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+                   cz = e1[0] * e2[1] - e1[1] * e2[0];
+      bad = cx == 0.0 && cy == 0.0 && cz == 0.0;
+    }
+    if (bad) {
+      ++degenerate;
+      continue;
+    }
+    c.triangles.insert(c.triangles.end(), t, t + 3);
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = t[e], b = t[(e + 1) % 3], opp = t[(e + 2) % 3];
+      EdgeInfo& info = edges[{std::min(a, b), std::max(a, b)}];
+      if (info.count < 2) info.opposite[info.count] = opp;
+      ++info.count;
+    }
+  }
+  if (degenerate > 0) {
+    stats.degenerate_triangles += degenerate;
+    s.warnings.push_back(file + ": cloth '" + o.name + "': " + std::to_string(degenerate) +
+                         " degenerate triangles left out of the cloth");
+  }
+
+  auto rest = [&](std::uint32_t a, std::uint32_t b) {
+    return static_cast<float>(std::sqrt(dist2(&c.rest_positions[3 * a], &c.rest_positions[3 * b])));
+  };
+  std::set<std::pair<std::uint32_t, std::uint32_t>> joined;
+  std::uint32_t nonmanifold = 0;
+  for (const auto& [e, info] : edges) {  // std::map: sorted by (a, b)
+    c.springs.push_back({e.first, e.second, rest(e.first, e.second), 0});
+    joined.insert(e);
+    if (info.count > 2) ++nonmanifold;
+  }
+  c.structural_count = static_cast<std::uint32_t>(c.springs.size());
+  std::set<std::pair<std::uint32_t, std::uint32_t>> bends;
+  for (const auto& [e, info] : edges) {
+    if (info.count != 2) continue;  // boundary, or non-manifold: no bend across it
+    const auto key = std::make_pair(std::min(info.opposite[0], info.opposite[1]), std::max(info.opposite[0], info.opposite[1]));
+    if (key.first == key.second || joined.count(key) != 0) continue;
+    bends.insert(key);
+    joined.insert(key);
+  }
+  for (const auto& b : bends) c.springs.push_back({b.first, b.second, rest(b.first, b.second), 1});
+  if (nonmanifold > 0) {
+    stats.nonmanifold_edges += nonmanifold;
+    s.warnings.push_back(file + ": cloth '" + o.name + "': " + std::to_string(nonmanifold) +
+                         " non-manifold edges (3+ triangles) get no bend springs");
+  }
+  return c;
+}
+
+}  // namespace
+
+void bake_scene(Scene& s, const Options& opt, Stats& stats) {
+  const std::string file = opt.input.string();
+  const std::string stem = opt.input.stem().string();
+  assign_identifiers(s);
+
+  std::vector<std::uint32_t> chosen;
+  for (const std::string& want : opt.cloth_objects) {
+    const Object* o = find_object(s, want, stem);
+    if (o == nullptr)
+      throw InputError(file + ": no object '" + want + "' to give masses (-a); objects: " + object_list(s));
+    const auto idx = static_cast<std::uint32_t>(o - s.objects.data());
+    if (std::find(chosen.begin(), chosen.end(), idx) == chosen.end()) chosen.push_back(idx);
+  }
+  std::sort(chosen.begin(), chosen.end());  // cloths in object order
+  for (std::uint32_t idx : chosen) {
+    s.objects[idx].cloth = static_cast<std::int32_t>(s.cloths.size());
+    s.cloths.push_back(build_cloth(s, idx, opt.reverse_map, stats, file));
+  }
+
+  auto cloth_of = [&](const std::string& name) -> Cloth* {
+    const Object* o = find_object(s, name, stem);
+    if (o == nullptr || o->cloth < 0) return nullptr;
+    return &s.cloths[static_cast<std::size_t>(o->cloth)];
+  };
+  // Pins from the model: every vertex of `<OBJECT>_pins` pins the nearest mass of OBJECT.
+  for (const auto& [helper, pts] : s.pin_points) {
+    const std::string target = pin_target_name(helper);
+    if (find_object(s, target, stem) == nullptr)
+      throw InputError(file + ": pin object '" + helper + "' names no object '" + target + "'");
+    Cloth* c = cloth_of(target);
+    if (c == nullptr) {
+      s.warnings.push_back(file + ": pin object '" + helper + "' ignored: '" + target + "' has no masses (-a)");
+      continue;
+    }
+    if (c->mass_count() == 0) continue;
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) lo[k] = hi[k] = c->rest_positions[static_cast<std::size_t>(k)];
+    for (std::size_t m = 0; m < c->rest_positions.size(); ++m) {
+      lo[m % 3] = std::min(lo[m % 3], c->rest_positions[m]);
+      hi[m % 3] = std::max(hi[m % 3], c->rest_positions[m]);
+    }
+    const double diag2 = dist2(lo, hi);
+    for (std::size_t p = 0; p + 2 < pts.size(); p += 3) {
+      double d2 = 0;
+      const std::uint32_t m = nearest_mass(*c, &pts[p], d2);
+      if (d2 > 1e-4 * diag2)
+        throw InputError(file + ": pin object '" + helper + "': vertex " + std::to_string(p / 3 + 1) +
+                         " is " + std::to_string(std::sqrt(d2)) + " from the nearest mass of '" + target +
+                         "' (more than 1 % of its size)");
+      c->pins.push_back(m);
+    }
+  }
+  for (const PinSpec& pin : opt.pins) {
+    if (find_object(s, pin.object, stem) == nullptr)
+      throw InputError(file + ": no object '" + pin.object + "' to pin (-p); objects: " + object_list(s));
+    Cloth* c = cloth_of(pin.object);
+    if (c == nullptr) throw UsageError("-p " + pin.object + ": the object has no masses; give it -a " + pin.object);
+    double d2 = 0;
+    if (c->mass_count() > 0) c->pins.push_back(nearest_mass(*c, pin.point.data(), d2));
+  }
+  for (Cloth& c : s.cloths) {
+    std::sort(c.pins.begin(), c.pins.end());
+    c.pins.erase(std::unique(c.pins.begin(), c.pins.end()), c.pins.end());
+  }
+  s.params = opt.params;
+}
+
+}  // namespace b2o::conv

@@ -1,0 +1,148 @@
+// blender2ogl's library: import (assimp) -> bake (weld, springs, pins, names) -> emit (C++).
+// The converter's own in-memory scene lives here; what is written follows b2o::Scene
+// (blender2ogl/scene_types.h) field by field.
+#ifndef BLENDER2OGL_CONVERTER_HPP
+#define BLENDER2OGL_CONVERTER_HPP
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace b2o::conv {
+
+inline constexpr const char* kVersion = "0.1.0";
+
+/// Bad input: the message already names the file (and the line when known). Exit code 1.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+/// Bad command line. Exit code 2.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct PinSpec {
+  std::string object;
+  std::array<float, 3> point{};
+};
+
+struct Options {
+  std::filesystem::path input;
+  std::filesystem::path target_dir;  ///< empty: the input's folder
+  std::string name;                  ///< empty: the input's stem, cleaned
+  bool combined = false;             ///< -c: one header with everything as text
+  bool merge = false;                ///< -m: all objects into one
+  bool reverse_map = false;          ///< -r
+  bool object_metadata = false;      ///< -o (always emitted; kept for compatibility)
+  bool verbose = false;              ///< -v
+  std::vector<std::string> cloth_objects;  ///< -a
+  std::vector<PinSpec> pins;               ///< -p
+  std::vector<std::pair<std::string, double>> params;  ///< --param, in command-line order
+  std::filesystem::path depfile;           ///< --depfile: Makefile-style list of inputs read
+};
+
+struct Material {
+  std::string name;
+  std::array<float, 3> ambient{}, diffuse{}, specular{};
+  float shininess = 0.0f, opacity = 1.0f;
+  std::int32_t diffuse_texture = -1;
+};
+
+struct Texture {
+  std::string name;  ///< as written in the .mtl
+  std::vector<unsigned char> bytes;
+};
+
+struct Submesh {
+  std::uint32_t first_index = 0, index_count = 0;
+  std::int32_t material = -1;
+};
+
+struct Object {
+  std::string name, identifier;
+  std::uint32_t first_vertex = 0, vertex_count = 0;
+  std::uint32_t first_index = 0, index_count = 0;
+  std::uint32_t first_submesh = 0, submesh_count = 0;
+  std::int32_t cloth = -1;
+};
+
+struct Spring {
+  std::uint32_t a = 0, b = 0;
+  float rest_length = 0.0f;
+  std::uint32_t kind = 0;  ///< b2o::SpringKind
+};
+
+struct Cloth {
+  std::uint32_t object = 0;
+  std::vector<float> rest_positions;            ///< (masses x 3)
+  std::vector<std::uint32_t> mass_vertex_offsets;  ///< (masses + 1)
+  std::vector<std::uint32_t> mass_vertices;     ///< scene-global render vertices
+  std::vector<std::uint32_t> vertex_mass;       ///< (object vertices), empty without -r
+  std::vector<Spring> springs;
+  std::uint32_t structural_count = 0;
+  std::vector<std::uint32_t> triangles;         ///< (n x 3) mass indices
+  std::vector<std::uint32_t> pins;
+  std::uint32_t mass_count() const { return static_cast<std::uint32_t>(rest_positions.size() / 3); }
+};
+
+struct Stats {
+  std::uint32_t warnings = 0;
+  std::uint32_t nonmanifold_edges = 0, degenerate_triangles = 0, loose_vertices = 0;
+};
+
+struct Scene {
+  std::string name;    ///< the C++ identifier (namespace and file stem)
+  std::string source;  ///< input file name without directories
+  std::vector<float> positions, normals, texcoords;
+  std::vector<std::uint32_t> indices;
+  std::vector<Object> objects;
+  std::vector<Submesh> submeshes;
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+  std::vector<Cloth> cloths;
+  std::vector<std::pair<std::string, double>> params;
+  std::vector<std::filesystem::path> inputs_read;  ///< .obj, .mtl, textures (for the depfile)
+  std::vector<std::string> warnings;
+  /// Points of `<OBJECT>_pins` helper objects (x y z ...), keyed by the helper's name;
+  /// the helpers themselves are not emitted.
+  std::map<std::string, std::vector<float>> pin_points;
+};
+
+/// The assimp post-processing flags the converter uses (tests read with the same ones).
+unsigned import_flags();
+
+/// Reads the model with assimp into a Scene (geometry, objects, materials, textures).
+Scene import_scene(const std::filesystem::path& file, bool merge);
+
+/// Cleans `name` into a C++ identifier (not a keyword, no reserved spelling).
+std::string clean_identifier(const std::string& name);
+/// Gives every object a distinct, stable identifier in file order.
+void assign_identifiers(Scene& scene);
+
+/// Turns `<OBJECT>_pins` objects into pin points, builds cloths for `-a` objects and pins.
+void bake_scene(Scene& scene, const Options& options, Stats& stats);
+
+/// One generated file: name (no directory) and bytes.
+struct OutputFile {
+  std::string name;
+  std::string bytes;
+};
+std::vector<OutputFile> emit_scene(const Scene& scene, const Options& options);
+
+/// Writes all files atomically into `dir` (temp files, then renames; unchanged files are
+/// left alone). Returns how many files changed.
+int write_outputs(const std::filesystem::path& dir, const std::vector<OutputFile>& files);
+
+/// FNV-1a 64 of bytes, as 16 hex digits.
+std::string hash_hex(const std::string& bytes);
+
+/// The whole conversion (everything but argument parsing); prints warnings to `log`.
+int run(const Options& options, std::ostream& log);
+
+}  // namespace b2o::conv
+
+#endif

@@ -1,0 +1,296 @@
+// import: the only code that parses model files (through assimp, after a light text check of .obj).
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include "converter.hpp"
+#include "prescan.hpp"
+
+namespace b2o::conv {
+namespace {
+
+std::string lower(std::string s) {
+  for (char& c : s)
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  return s;
+}
+
+bool finite3(const aiVector3D& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+bool is_identity(const aiMatrix4x4& m) { return m.IsIdentity(); }
+
+// Reads a material's fields as assimp reports them (the OBJ importer maps Ka/Kd/Ks/Ns/d).
+Material read_material(const aiMaterial& m) {
+  Material out;
+  aiString name;
+  if (m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS) out.name = name.C_Str();
+  aiColor3D c;
+  if (m.Get(AI_MATKEY_COLOR_AMBIENT, c) == AI_SUCCESS) out.ambient = {c.r, c.g, c.b};
+  if (m.Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) out.diffuse = {c.r, c.g, c.b};
+  if (m.Get(AI_MATKEY_COLOR_SPECULAR, c) == AI_SUCCESS) out.specular = {c.r, c.g, c.b};
+  float f = 0.0f;
+  if (m.Get(AI_MATKEY_SHININESS, f) == AI_SUCCESS) out.shininess = f;
+  if (m.Get(AI_MATKEY_OPACITY, f) == AI_SUCCESS) out.opacity = f;
+  auto finite = [](float v) { return std::isfinite(v); };
+  if (!std::all_of(out.ambient.begin(), out.ambient.end(), finite) ||
+      !std::all_of(out.diffuse.begin(), out.diffuse.end(), finite) ||
+      !std::all_of(out.specular.begin(), out.specular.end(), finite) || !finite(out.shininess) ||
+      !finite(out.opacity))
+    throw std::runtime_error("material '" + out.name + "' has a non-finite value");
+  return out;
+}
+
+// `<OBJECT>_pins` helpers become pin points and leave the scene (their vertices too).
+void remove_pin_helpers(Scene& s) {
+  std::vector<std::uint32_t> new_vertex(s.positions.size() / 3, 0);
+  Scene kept;
+  for (const Object& o : s.objects) {
+    if (is_pin_object_name(o.name)) {
+      auto& pts = s.pin_points[o.name];
+      if (pts.empty())
+        pts.assign(s.positions.begin() + 3 * o.first_vertex, s.positions.begin() + 3 * (o.first_vertex + o.vertex_count));
+      continue;
+    }
+    Object n = o;
+    n.first_vertex = static_cast<std::uint32_t>(kept.positions.size() / 3);
+    n.first_index = static_cast<std::uint32_t>(kept.indices.size());
+    n.first_submesh = static_cast<std::uint32_t>(kept.submeshes.size());
+    for (std::uint32_t v = o.first_vertex; v < o.first_vertex + o.vertex_count; ++v) {
+      new_vertex[v] = static_cast<std::uint32_t>(kept.positions.size() / 3);
+      kept.positions.insert(kept.positions.end(), s.positions.begin() + 3 * v, s.positions.begin() + 3 * v + 3);
+      kept.normals.insert(kept.normals.end(), s.normals.begin() + 3 * v, s.normals.begin() + 3 * v + 3);
+      kept.texcoords.insert(kept.texcoords.end(), s.texcoords.begin() + 2 * v, s.texcoords.begin() + 2 * v + 2);
+    }
+    for (std::uint32_t k = 0; k < o.submesh_count; ++k) {
+      Submesh sm = s.submeshes[o.first_submesh + k];
+      const std::uint32_t first = sm.first_index;
+      sm.first_index = static_cast<std::uint32_t>(kept.indices.size());
+      for (std::uint32_t i = first; i < first + sm.index_count; ++i) kept.indices.push_back(new_vertex[s.indices[i]]);
+      kept.submeshes.push_back(sm);
+    }
+    kept.objects.push_back(std::move(n));
+  }
+  if (kept.objects.size() == s.objects.size()) return;
+  s.positions = std::move(kept.positions);
+  s.normals = std::move(kept.normals);
+  s.texcoords = std::move(kept.texcoords);
+  s.indices = std::move(kept.indices);
+  s.submeshes = std::move(kept.submeshes);
+  s.objects = std::move(kept.objects);
+}
+
+}  // namespace
+
+unsigned import_flags() {
+  // Not SplitLargeMeshes / PreTransformVertices / OptimizeMeshes / OptimizeGraph: they split
+  // big cloths, move vertices or merge objects.
+  return aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
+         aiProcess_SortByPType | aiProcess_ValidateDataStructure;
+}
+
+Scene import_scene(const std::filesystem::path& file, bool merge) {
+  Scene out;
+  out.source = file.filename().string();
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw InputError(file.string() + ": is a directory, not a model file");
+  if (!std::filesystem::exists(file, ec)) throw InputError(file.string() + ": no such file");
+  {
+    std::ifstream probe(file, std::ios::binary);
+    if (!probe) throw InputError(file.string() + ": cannot open (permission denied?)");
+  }
+  const bool is_obj = lower(file.extension().string()) == ".obj";
+  const std::filesystem::path folder = file.parent_path();
+  out.inputs_read.push_back(std::filesystem::absolute(file));
+
+  ObjScan scan;
+  if (is_obj) {
+    scan = prescan_obj_file(file);
+    for (const auto& lib : scan.mtllibs) {
+      const auto p = folder / lib;
+      if (!std::filesystem::is_regular_file(p, ec))
+        out.warnings.push_back(file.string() + ": material library '" + lib + "' not found; its objects get a default material");
+      else
+        out.inputs_read.push_back(std::filesystem::absolute(p));
+    }
+    if (scan.lines_points > 0)
+      out.warnings.push_back(file.string() + ": " + std::to_string(scan.lines_points) +
+                             " line/point elements ignored (only faces are drawn)");
+    out.pin_points = scan.pin_points;
+  }
+
+  Assimp::Importer importer;
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  const aiScene* ai = importer.ReadFile(file.string(), import_flags());
+  if (ai == nullptr) {
+    std::string why = importer.GetErrorString();
+    while (!why.empty() && (why.back() == '\n' || why.back() == '\r')) why.pop_back();
+    throw InputError(file.string() + ": cannot import: " + (why.empty() ? "unknown error" : why));
+  }
+  if ((ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || ai->mNumMeshes == 0 || ai->mRootNode == nullptr)
+    throw InputError(file.string() + ": no triangles (empty scene)");
+
+  // Materials: every material of the file; assimp's own default one only when a mesh uses it.
+  std::vector<int> used(ai->mNumMaterials, 0);
+  for (unsigned i = 0; i < ai->mNumMeshes; ++i)
+    if (ai->mMeshes[i]->mMaterialIndex < ai->mNumMaterials) used[ai->mMeshes[i]->mMaterialIndex] = 1;
+  std::vector<std::int32_t> material_map(ai->mNumMaterials, -1);
+  std::map<std::string, std::int32_t> texture_index;
+  for (unsigned i = 0; i < ai->mNumMaterials; ++i) {
+    Material m;
+    try {
+      m = read_material(*ai->mMaterials[i]);
+    } catch (const std::runtime_error& e) {
+      throw InputError(file.string() + ": " + e.what());
+    }
+    if (!used[i] && m.name == AI_DEFAULT_MATERIAL_NAME) continue;
+    aiString tex;
+    if (ai->mMaterials[i]->GetTextureCount(aiTextureType_DIFFUSE) > 0 &&
+        ai->mMaterials[i]->GetTexture(aiTextureType_DIFFUSE, 0, &tex) == AI_SUCCESS && tex.length > 0) {
+      const std::string written = tex.C_Str();
+      if (auto it = texture_index.find(written); it != texture_index.end()) {
+        m.diffuse_texture = it->second;
+      } else {
+        std::string rel = written;
+        std::replace(rel.begin(), rel.end(), '\\', '/');
+        const std::filesystem::path p = std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : folder / rel;
+        std::ifstream in(p, std::ios::binary);
+        if (rel.empty() || rel[0] == '*' || !in || std::filesystem::is_directory(p, ec)) {
+          out.warnings.push_back(file.string() + ": texture '" + written + "' of material '" + m.name +
+                                 "' not found; the material gets no texture");
+        } else {
+          std::ostringstream ss;
+          ss << in.rdbuf();
+          const std::string bytes = ss.str();
+          if (bytes.size() > std::numeric_limits<std::uint32_t>::max())
+            throw InputError(p.string() + ": texture larger than 4 GiB");
+          Texture t;
+          t.name = written;
+          t.bytes.assign(bytes.begin(), bytes.end());
+          m.diffuse_texture = static_cast<std::int32_t>(out.textures.size());
+          texture_index[written] = m.diffuse_texture;
+          out.textures.push_back(std::move(t));
+          out.inputs_read.push_back(std::filesystem::absolute(p));
+        }
+      }
+    }
+    material_map[i] = static_cast<std::int32_t>(out.materials.size());
+    out.materials.push_back(std::move(m));
+  }
+
+  // Objects: nodes with meshes, depth first in file order.
+  std::vector<std::pair<const aiNode*, aiMatrix4x4>> nodes;
+  std::function<void(const aiNode*, const aiMatrix4x4&)> walk = [&](const aiNode* n, const aiMatrix4x4& parent) {
+    const aiMatrix4x4 global = parent * n->mTransformation;
+    if (n->mNumMeshes > 0) nodes.emplace_back(n, global);
+    for (unsigned i = 0; i < n->mNumChildren; ++i) walk(n->mChildren[i], global);
+  };
+  walk(ai->mRootNode, aiMatrix4x4());
+
+  const std::uint64_t limit = std::numeric_limits<std::uint32_t>::max() / 4;
+  for (const auto& [node, transform] : nodes) {
+    Object obj;
+    obj.name = node->mName.C_Str();
+    // OBJ without `o`/`g`: assimp invents a name; the object is named after the file.
+    if (is_obj && scan.groups == 0) obj.name = file.stem().string();
+    while (!obj.name.empty() && (obj.name.back() == '\r' || obj.name.back() == '\n')) obj.name.pop_back();
+    obj.first_vertex = static_cast<std::uint32_t>(out.positions.size() / 3);
+    obj.first_index = static_cast<std::uint32_t>(out.indices.size());
+    obj.first_submesh = static_cast<std::uint32_t>(out.submeshes.size());
+    const bool moved = !is_identity(transform);
+    aiMatrix3x3 normal_matrix(transform);
+    normal_matrix.Inverse().Transpose();
+    for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+      const aiMesh* mesh = ai->mMeshes[node->mMeshes[k]];
+      if ((mesh->mPrimitiveTypes & ~static_cast<unsigned>(aiPrimitiveType_TRIANGLE | aiPrimitiveType_NGONEncodingFlag)) != 0 ||
+          mesh->mNumFaces == 0)
+        continue;  // points/lines were sorted out; nothing else is drawn
+      const std::uint32_t base = static_cast<std::uint32_t>(out.positions.size() / 3);
+      if (base + static_cast<std::uint64_t>(mesh->mNumVertices) > limit ||
+          out.indices.size() + 3ull * mesh->mNumFaces > limit)
+        throw InputError(file.string() + ": too large (more than 2^30 vertices or indices)");
+      bool bad_normal = false;
+      for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+        aiVector3D p = mesh->mVertices[v];
+        if (!finite3(p))
+          throw InputError(file.string() + ": object '" + obj.name + "' has a non-finite vertex coordinate");
+        if (moved) p = transform * p;
+        out.positions.insert(out.positions.end(), {p.x, p.y, p.z});
+        aiVector3D n = mesh->mNormals != nullptr ? mesh->mNormals[v] : aiVector3D(0, 0, 0);
+        if (moved) n = (normal_matrix * n).NormalizeSafe();
+        if (!finite3(n)) {
+          n = aiVector3D(0, 0, 0);  // a generated normal of a degenerate face
+          bad_normal = true;
+        }
+        out.normals.insert(out.normals.end(), {n.x, n.y, n.z});
+        float u = 0.0f, w = 0.0f;
+        if (mesh->HasTextureCoords(0)) {
+          u = mesh->mTextureCoords[0][v].x;
+          w = mesh->mTextureCoords[0][v].y;
+          if (!std::isfinite(u) || !std::isfinite(w))
+            throw InputError(file.string() + ": object '" + obj.name + "' has a non-finite texture coordinate");
+        }
+        out.texcoords.insert(out.texcoords.end(), {u, w});
+      }
+      if (bad_normal)
+        out.warnings.push_back(file.string() + ": object '" + obj.name + "': some normals could not be generated (degenerate faces); set to zero");
+      Submesh sm;
+      sm.first_index = static_cast<std::uint32_t>(out.indices.size());
+      for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+        const aiFace& face = mesh->mFaces[f];
+        if (face.mNumIndices != 3)
+          throw InputError(file.string() + ": object '" + obj.name + "' has a face with " +
+                           std::to_string(face.mNumIndices) + " vertices");
+        for (unsigned c = 0; c < 3; ++c) {
+          if (face.mIndices[c] >= mesh->mNumVertices)
+            throw InputError(file.string() + ": object '" + obj.name + "' has a vertex index out of range");
+          out.indices.push_back(base + face.mIndices[c]);
+        }
+      }
+      sm.index_count = static_cast<std::uint32_t>(out.indices.size()) - sm.first_index;
+      sm.material = mesh->mMaterialIndex < material_map.size() ? material_map[mesh->mMaterialIndex] : -1;
+      // Consecutive meshes with one material make one range.
+      if (out.submeshes.size() > obj.first_submesh && out.submeshes.back().material == sm.material &&
+          out.submeshes.back().first_index + out.submeshes.back().index_count == sm.first_index)
+        out.submeshes.back().index_count += sm.index_count;
+      else
+        out.submeshes.push_back(sm);
+    }
+    obj.vertex_count = static_cast<std::uint32_t>(out.positions.size() / 3) - obj.first_vertex;
+    obj.index_count = static_cast<std::uint32_t>(out.indices.size()) - obj.first_index;
+    obj.submesh_count = static_cast<std::uint32_t>(out.submeshes.size()) - obj.first_submesh;
+    if (obj.index_count == 0) continue;
+    // assimp makes one node per `o` and per `g`; a name seen twice continues the object.
+    if (!out.objects.empty() && out.objects.back().name == obj.name &&
+        out.objects.back().first_vertex + out.objects.back().vertex_count == obj.first_vertex) {
+      Object& prev = out.objects.back();
+      prev.vertex_count += obj.vertex_count;
+      prev.index_count += obj.index_count;
+      prev.submesh_count += obj.submesh_count;
+      continue;
+    }
+    out.objects.push_back(std::move(obj));
+  }
+  if (out.objects.empty()) throw InputError(file.string() + ": no triangles (empty scene)");
+  remove_pin_helpers(out);
+  if (out.objects.empty()) throw InputError(file.string() + ": no triangles besides pin helpers");
+
+  if (merge && out.objects.size() > 1) {
+    Object all;
+    all.name = file.stem().string();
+    all.vertex_count = static_cast<std::uint32_t>(out.positions.size() / 3);
+    all.index_count = static_cast<std::uint32_t>(out.indices.size());
+    all.submesh_count = static_cast<std::uint32_t>(out.submeshes.size());
+    out.objects.assign(1, all);
+  }
+  return out;
+}
+
+}  // namespace b2o::conv

@@ -1,0 +1,215 @@
+// A light check of .obj text before assimp reads it. assimp's OBJ importer accepts binary
+// garbage, truncated lines and out-of-range indices silently (or crashes); this pass only
+// tokenizes lines to give a clear message with a line number. It builds no geometry.
+#include <cerrno>
+#include <cstring>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string_view>
+
+#include "converter.hpp"
+#include "prescan.hpp"
+
+namespace b2o::conv {
+namespace {
+
+[[noreturn]] void fail(const std::filesystem::path& file, std::size_t line, const std::string& what) {
+  throw InputError(file.string() + ":" + std::to_string(line) + ": " + what);
+}
+
+std::vector<std::string_view> split_ws(std::string_view s) {
+  std::vector<std::string_view> out;
+  std::size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && (s[i] == ' ' || s[i] == '\t' || s[i] == '\r' || s[i] == '\f' || s[i] == '\v')) ++i;
+    std::size_t j = i;
+    while (j < s.size() && !(s[j] == ' ' || s[j] == '\t' || s[j] == '\r' || s[j] == '\f' || s[j] == '\v')) ++j;
+    if (j > i) out.push_back(s.substr(i, j - i));
+    i = j;
+  }
+  return out;
+}
+
+// A decimal number as OBJ writers produce it: [+-]digits[.digits][(e|E)[+-]digits].
+bool parse_number(std::string_view t, double& value) {
+  std::size_t i = 0;
+  if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
+  std::size_t digits = 0;
+  while (i < t.size() && t[i] >= '0' && t[i] <= '9') ++i, ++digits;
+  if (i < t.size() && t[i] == '.') {
+    ++i;
+    while (i < t.size() && t[i] >= '0' && t[i] <= '9') ++i, ++digits;
+  }
+  if (digits == 0) return false;
+  if (i < t.size() && (t[i] == 'e' || t[i] == 'E')) {
+    ++i;
+    if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
+    std::size_t exp_digits = 0;
+    while (i < t.size() && t[i] >= '0' && t[i] <= '9') ++i, ++exp_digits;
+    if (exp_digits == 0) return false;
+  }
+  if (i != t.size()) return false;
+  const std::string copy(t);
+  value = std::strtod(copy.c_str(), nullptr);
+  return true;
+}
+
+bool parse_int(std::string_view t, long long& value) {
+  if (t.empty()) return false;
+  std::size_t i = (t[0] == '-' || t[0] == '+') ? 1 : 0;
+  if (i == t.size() || t.size() > 12) return false;
+  for (std::size_t k = i; k < t.size(); ++k)
+    if (t[k] < '0' || t[k] > '9') return false;
+  value = std::strtoll(std::string(t).c_str(), nullptr, 10);
+  return true;
+}
+
+bool is_number_like(std::string_view t) {
+  double ignored = 0;
+  if (parse_number(t, ignored)) return true;
+  // nan/inf spelled out, to report them as such rather than as garbage
+  std::string lower;
+  for (char c : t) lower += static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+  return lower.find("nan") != std::string::npos || lower.find("inf") != std::string::npos;
+}
+
+}  // namespace
+
+ObjScan prescan_obj_file(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw InputError(file.string() + ": is a directory, not a model file");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file.string() + ": cannot open: " + std::strerror(errno));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw InputError(file.string() + ": cannot read");
+  const std::string text = ss.str();
+
+  ObjScan scan;
+  std::string_view rest(text);
+  if (rest.size() >= 2 && ((rest[0] == '\xFE' && rest[1] == '\xFF') || (rest[0] == '\xFF' && rest[1] == '\xFE')))
+    fail(file, 1, "UTF-16 text is not supported; save the file as UTF-8 (Blender does)");
+  if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);
+
+  std::size_t line_no = 0;
+  std::string current_group;
+  std::string joined;
+  while (!rest.empty()) {
+    ++line_no;
+    const std::size_t start_line = line_no;
+    std::size_t nl = rest.find('\n');
+    std::string_view line = rest.substr(0, nl);
+    rest = (nl == std::string_view::npos) ? std::string_view() : rest.substr(nl + 1);
+    // A trailing backslash continues the line.
+    joined.assign(line);
+    while (!joined.empty() && (joined.back() == '\\' || (joined.back() == '\r' && joined.size() > 1 && joined[joined.size() - 2] == '\\')) && !rest.empty()) {
+      joined.erase(joined.rfind('\\'));
+      nl = rest.find('\n');
+      joined.append(rest.substr(0, nl));
+      rest = (nl == std::string_view::npos) ? std::string_view() : rest.substr(nl + 1);
+      ++line_no;
+    }
+    for (unsigned char c : joined) {
+      if (c < 0x20 && c != '\t' && c != '\r' && c != '\f' && c != '\v')
+        fail(file, start_line, "binary data (byte 0x" + [&] {
+          const char* hex = "0123456789abcdef";
+          return std::string{hex[c >> 4], hex[c & 15]};
+        }() + ") in a text model file");
+    }
+    std::string_view body(joined);
+    if (const auto hash = body.find('#'); hash != std::string_view::npos) body = body.substr(0, hash);
+    const auto tok = split_ws(body);
+    if (tok.empty()) continue;
+    const std::string_view key = tok[0];
+    auto numbers = [&](std::size_t min_count, const char* what) {
+      if (tok.size() - 1 < min_count)
+        fail(file, start_line, std::string("'") + std::string(key) + "' needs " + std::to_string(min_count) + " " + what +
+                                   ", found " + std::to_string(tok.size() - 1) + " (truncated file?)");
+      std::vector<double> values;
+      for (std::size_t k = 1; k < tok.size(); ++k) {
+        double v = 0;
+        if (!parse_number(tok[k], v)) {
+          if (is_number_like(tok[k])) fail(file, start_line, "non-finite number '" + std::string(tok[k]) + "'");
+          fail(file, start_line, "malformed number '" + std::string(tok[k]) + "'");
+        }
+        if (!std::isfinite(v)) fail(file, start_line, "number out of range '" + std::string(tok[k]) + "'");
+        values.push_back(v);
+      }
+      return values;
+    };
+    if (key == "v") {
+      const auto v = numbers(3, "coordinates");
+      ++scan.positions;
+      if (!current_group.empty() && is_pin_object_name(current_group)) {
+        auto& pts = scan.pin_points[current_group];
+        pts.insert(pts.end(), {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])});
+      }
+    } else if (key == "vt") {
+      numbers(1, "coordinate");
+      ++scan.texcoords;
+    } else if (key == "vn") {
+      numbers(3, "coordinates");
+      ++scan.normals;
+    } else if (key == "vp") {
+      numbers(1, "coordinate");
+    } else if (key == "f" || key == "fo" || key == "l" || key == "p") {
+      const bool face = key == "f" || key == "fo";
+      const std::size_t need = face ? 3 : 1;
+      if (tok.size() - 1 < need)
+        fail(file, start_line, std::string("'") + std::string(key) + "' needs at least " + std::to_string(need) +
+                                   " vertices, found " + std::to_string(tok.size() - 1));
+      for (std::size_t k = 1; k < tok.size(); ++k) {
+        const std::string_view ref = tok[k];
+        std::size_t part = 0, pos = 0;
+        while (part < 3) {
+          const std::size_t slash = ref.find('/', pos);
+          const std::string_view field = ref.substr(pos, slash == std::string_view::npos ? std::string_view::npos : slash - pos);
+          const std::size_t count = part == 0 ? scan.positions : part == 1 ? scan.texcoords : scan.normals;
+          if (!(field.empty() && part > 0)) {
+            long long idx = 0;
+            if (!parse_int(field, idx) || idx == 0)
+              fail(file, start_line, "malformed vertex reference '" + std::string(ref) + "'");
+            const long long n = static_cast<long long>(count);
+            if (idx > n || idx < -n)
+              fail(file, start_line, std::string(part == 0 ? "vertex" : part == 1 ? "texture coordinate" : "normal") +
+                                         " index " + std::to_string(idx) + " out of range (" + std::to_string(count) +
+                                         " defined so far)");
+          }
+          ++part;
+          if (slash == std::string_view::npos) break;
+          pos = slash + 1;
+        }
+        if (part > 3 || (pos < ref.size() && ref.find('/', pos) != std::string_view::npos))
+          fail(file, start_line, "malformed vertex reference '" + std::string(ref) + "'");
+      }
+      if (face) ++scan.faces; else ++scan.lines_points;
+    } else if (key == "o" || key == "g") {
+      ++scan.groups;
+      current_group = tok.size() > 1 ? std::string(tok[1]) : std::string();
+      for (std::size_t k = 2; k < tok.size() && key == "o"; ++k) current_group += " " + std::string(tok[k]);
+    } else if (key == "mtllib") {
+      // A name may hold spaces; assimp takes the rest of the line.
+      std::string name(body.substr(body.find("mtllib") + 6));
+      while (!name.empty() && (name.front() == ' ' || name.front() == '\t')) name.erase(0, 1);
+      while (!name.empty() && (name.back() == ' ' || name.back() == '\t' || name.back() == '\r')) name.pop_back();
+      scan.mtllibs.push_back(name);
+    }
+  }
+  if (scan.positions == 0) throw InputError(file.string() + ": no vertices (empty or not an OBJ file)");
+  if (scan.faces == 0) throw InputError(file.string() + ": no faces: nothing to draw (points and lines are not supported)");
+  return scan;
+}
+
+bool is_pin_object_name(const std::string& name) {
+  auto ends = [&](const char* s) {
+    const std::string suffix(s);
+    return name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  return ends("_pins") || ends(".pins");
+}
+
+std::string pin_target_name(const std::string& name) { return name.substr(0, name.size() - 5); }
+
+}  // namespace b2o::conv

@@ -1,0 +1,26 @@
+#ifndef BLENDER2OGL_PRESCAN_HPP
+#define BLENDER2OGL_PRESCAN_HPP
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace b2o::conv {
+
+struct ObjScan {
+  std::size_t positions = 0, texcoords = 0, normals = 0, faces = 0, lines_points = 0, groups = 0;
+  std::vector<std::string> mtllibs;
+  /// Vertices written under an `o`/`g` named `<OBJECT>_pins` or `<OBJECT>.pins` (x y z ...):
+  /// assimp drops objects without faces, so pin helpers made of loose vertices are read here.
+  std::map<std::string, std::vector<float>> pin_points;
+};
+
+/// Throws InputError ("file:line: what") on text assimp would misread.
+ObjScan prescan_obj_file(const std::filesystem::path& file);
+
+bool is_pin_object_name(const std::string& name);
+/// "Cloth_pins" -> "Cloth"
+std::string pin_target_name(const std::string& name);
+
+}  // namespace b2o::conv
+#endif

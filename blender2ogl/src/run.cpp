@@ -1,0 +1,73 @@
+// run: import -> bake -> emit -> write, with warnings, statistics and the depfile.
+#include <chrono>
+#include <fstream>
+#include <ostream>
+
+#include "converter.hpp"
+
+namespace b2o::conv {
+namespace {
+
+std::string depfile_escape(const std::string& p) {
+  std::string out;
+  for (char c : p) {
+    if (c == ' ' || c == '#' || c == '\\') out += '\\';
+    if (c == '$') out += '$';
+    out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
+int run(const Options& opt, std::ostream& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Scene scene = import_scene(opt.input, opt.merge);
+  scene.name = clean_identifier(opt.name.empty() ? opt.input.stem().string() : opt.name);
+  Stats stats;
+  bake_scene(scene, opt, stats);
+  const auto files = emit_scene(scene, opt);
+  const std::filesystem::path dir = opt.target_dir.empty() ? opt.input.parent_path() : opt.target_dir;
+  const int changed = write_outputs(dir.empty() ? std::filesystem::path(".") : dir, files);
+
+  if (!opt.depfile.empty()) {
+    // Makefile syntax for the build tool: the header depends on every file read.
+    std::string text = depfile_escape((std::filesystem::absolute(dir) / files.front().name).string()) + ":";
+    for (const auto& p : scene.inputs_read) text += " \\\n  " + depfile_escape(p.string());
+    text += "\n";
+    write_outputs(opt.depfile.parent_path().empty() ? "." : opt.depfile.parent_path(),
+                  {{opt.depfile.filename().string(), text}});
+  }
+  for (const std::string& w : scene.warnings) log << "blender2ogl: warning: " << w << "\n";
+
+  if (opt.verbose) {
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    std::size_t masses = 0, structural = 0, bend = 0, pins = 0, bytes = 0;
+    for (const Cloth& c : scene.cloths) {
+      masses += c.mass_count();
+      structural += c.structural_count;
+      bend += c.springs.size() - c.structural_count;
+      pins += c.pins.size();
+    }
+    for (const auto& f : files) bytes += f.bytes.size();
+    log << "blender2ogl: " << scene.source << " -> " << (dir / files.front().name).string() << "\n"
+        << "  objects    " << scene.objects.size() << "\n"
+        << "  vertices   " << scene.positions.size() / 3 << "\n"
+        << "  triangles  " << scene.indices.size() / 3 << "\n"
+        << "  materials  " << scene.materials.size() << " (" << scene.textures.size() << " textures)\n"
+        << "  cloths     " << scene.cloths.size() << "\n"
+        << "  masses     " << masses << "\n"
+        << "  springs    " << structural + bend << " (" << structural << " structural, " << bend << " bend)\n"
+        << "  pins       " << pins << "\n"
+        << "  warnings   " << scene.warnings.size() << "\n"
+        << "  files      " << files.size() << " (" << changed << " changed, " << bytes << " bytes)\n"
+        << "  time       " << ms << " ms\n";
+    for (const Cloth& c : scene.cloths)
+      log << "  cloth " << scene.objects[c.object].name << ": " << c.mass_count() << " masses, " << c.springs.size()
+          << " springs (" << c.structural_count << " structural, " << c.springs.size() - c.structural_count
+          << " bend), " << c.triangles.size() / 3 << " triangles, " << c.pins.size() << " pins\n";
+  }
+  return 0;
+}
+
+}  // namespace b2o::conv

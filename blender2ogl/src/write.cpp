@@ -1,0 +1,70 @@
+// Atomic output: every file goes to a temp file in the target folder first; only when all
+// are written are they renamed over the old ones. Files whose bytes are unchanged are left
+// alone, so builds do not recompile what did not change.
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <unistd.h>
+
+#include "converter.hpp"
+
+namespace b2o::conv {
+namespace {
+
+bool same_bytes(const std::filesystem::path& p, const std::string& bytes) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(p, ec) || std::filesystem::file_size(p, ec) != bytes.size()) return false;
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return in.good() && ss.str() == bytes;
+}
+
+}  // namespace
+
+int write_outputs(const std::filesystem::path& dir, const std::vector<OutputFile>& files) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  bool created_dir = false;
+  if (!fs::is_directory(dir, ec)) {
+    if (fs::exists(dir, ec)) throw InputError(dir.string() + ": target exists and is not a directory");
+    fs::create_directories(dir, ec);
+    if (ec) throw InputError(dir.string() + ": cannot create target folder: " + ec.message());
+    created_dir = true;
+  }
+  static std::atomic<unsigned> counter{0};
+  std::vector<std::pair<fs::path, fs::path>> pending;  // temp -> final
+  auto cleanup = [&] {
+    for (const auto& [tmp, final_path] : pending) fs::remove(tmp, ec);
+    if (created_dir) fs::remove(dir, ec);
+  };
+  for (const OutputFile& f : files) {
+    const fs::path final_path = dir / f.name;
+    if (same_bytes(final_path, f.bytes)) continue;
+    const fs::path tmp = dir / ("." + f.name + ".tmp" + std::to_string(::getpid()) + "." + std::to_string(counter++));
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (out) out.write(f.bytes.data(), static_cast<std::streamsize>(f.bytes.size()));
+    if (out) out.close();
+    if (!out) {
+      const std::string why = std::strerror(errno);
+      fs::remove(tmp, ec);
+      cleanup();
+      throw InputError(final_path.string() + ": cannot write: " + why);
+    }
+    pending.emplace_back(tmp, final_path);
+  }
+  for (const auto& [tmp, final_path] : pending) {
+    fs::rename(tmp, final_path, ec);
+    if (ec) {
+      const std::string why = ec.message();
+      cleanup();
+      throw InputError(final_path.string() + ": cannot write: " + why);
+    }
+  }
+  return static_cast<int>(pending.size());
+}
+
+}  // namespace b2o::conv
