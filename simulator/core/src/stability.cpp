@@ -186,7 +186,8 @@ double stable_dt(Integrator method, double omega, double zeta) {
     return std::max(std::abs(0.5 * tr + disc), std::abs(0.5 * tr - disc));
   };
   auto stable = [&](double h) { return radius(h) <= 1.0 + 1e-12; };
-  double lo = 1e-6 / omega;
+  // Unstable already at h omega = 1e-3: treat as never stable (explicit Euler without damping).
+  double lo = 1e-3 / omega;
   if (!stable(lo)) return 0.0;
   double hi = lo;
   while (stable(hi)) {
