@@ -1,0 +1,358 @@
+#include "app.hpp"
+
+#include <clothsim/scene.hpp>
+#include <clothsim/step.hpp>
+
+#include <blender2ogl/scene_types.h>
+
+#ifdef CLOTHSIM_HAVE_VIEWER
+#include <clothsim/viewer.hpp>
+#endif
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifndef CLOTHSIM_VERSION
+#define CLOTHSIM_VERSION "0.0.0"
+#endif
+
+namespace clothsim {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+constexpr int kExitFailed = 1;
+constexpr int kExitBadInput = 2;
+
+int bad_input(const std::string& msg) {
+  std::cerr << "clothsim: error: " << msg << "\n";
+  return kExitBadInput;
+}
+
+// The 2016 program's single-dash options, rewritten to ours before CLI11 sees them.
+std::vector<std::string> rewrite_seed_aliases(int argc, char** argv) {
+  static const std::pair<const char*, const char*> aliases[] = {
+      {"-step", "--dt"}, {"-mass", "--mass"}, {"-stiff", "--k-struct"}, {"-wstiff", "--k-bend"}, {"-damp", "--damping"}};
+  std::vector<std::string> out;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    for (const auto& [from, to] : aliases) {
+      const std::string f = from;
+      if (a == f) a = to;
+      else if (a.rfind(f + "=", 0) == 0) a = std::string(to) + a.substr(f.size());
+    }
+    out.push_back(a);
+  }
+  return out;
+}
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+json options_json(const Options& o) {
+  return json{{"dt", o.dt},         {"mass", o.mass},
+              {"k_struct", o.k_struct}, {"k_bend", o.k_bend},
+              {"damping", o.damping},   {"gravity", {o.gravity.x(), o.gravity.y(), o.gravity.z()}},
+              {"epsilon", o.epsilon},   {"k_rep", o.k_rep},
+              {"integrator", "symplectic_euler"}};
+}
+
+// temp file + rename: a reader never sees half a report.
+bool write_atomically(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) return false;
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      return false;
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) fs::remove(tmp, ec);
+  return !ec;
+}
+
+bool export_obj(const fs::path& dir, const b2o::Scene& scene, const Model& model, const State& s) {
+  char name[64];
+  std::snprintf(name, sizeof name, "%s_%06llu.obj", model.scene_name.c_str(),
+                static_cast<unsigned long long>(s.steps));
+  std::ofstream out(dir / name);
+  out << "# clothsim " << CLOTHSIM_VERSION << ", t = " << s.t << " s, step " << s.steps << "\n";
+  std::size_t base = 1;  // OBJ indices are 1-based and file-global
+  for (const ClothRange& r : model.cloths) {
+    const b2o::Cloth* cloth = r.scene_cloth >= 0 ? &scene.cloths[r.scene_cloth] : nullptr;
+    out << "o " << (cloth ? scene.objects[cloth->object].name : "cloth") << "\n";
+    for (std::uint32_t i = 0; i < r.mass_count; ++i) {
+      const auto c = s.x.col(r.first_mass + i);
+      out << "v " << c.x() << ' ' << c.y() << ' ' << c.z() << "\n";
+    }
+    if (cloth)
+      for (std::uint32_t t = 0; t < cloth->triangle_count; ++t)
+        out << "f " << base + cloth->triangles[3 * t] << ' ' << base + cloth->triangles[3 * t + 1] << ' '
+            << base + cloth->triangles[3 * t + 2] << "\n";
+    base += r.mass_count;
+  }
+  return static_cast<bool>(out);
+}
+
+class Progress {
+ public:
+  Progress(std::uint64_t total, bool on) : total_(total), on_(on && total >= 200) {}
+  void update(std::uint64_t done, double t) {
+    if (!on_) return;
+    const int pct = static_cast<int>(100 * done / total_);
+    if (pct == last_) return;
+    last_ = pct;
+    const int bar = pct * 30 / 100;
+    std::fprintf(stderr, "\r[%.*s%*s] %3d%%  t = %.2f s", bar, "##############################", 30 - bar, "", pct, t);
+    std::fflush(stderr);
+  }
+  void finish() {
+    if (on_ && last_ >= 0) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  std::uint64_t total_;
+  bool on_;
+  int last_ = -1;
+};
+
+}  // namespace
+
+int run_app(int argc, char** argv, const b2o::Scene& scene) {
+  const Options defaults{};
+  std::vector<std::string> unknown_params;
+  const Options scene_opts = scene_options(scene, defaults, &unknown_params);
+
+  CLI::App app{std::string("clothsim: mass-spring cloth simulation of the baked scene '") + scene.name +
+               "' (symplectic Euler, report eqs. 1-7; penalty contacts, eq. 12)"};
+  app.set_version_flag("--version", std::string("clothsim ") + CLOTHSIM_VERSION + " (scene " + scene.name + ")");
+
+  bool headless = false, quiet = false, no_vsync = false, paused = false;
+  double seconds = 20.0, dt = 0, mass = 0, k_struct = 0, k_bend = 0, damping = 0, gravity = 0, epsilon = 0, k_rep = 0;
+  std::uint64_t steps = 0, export_every = 10;
+  std::string report, export_dir, screenshot, frames;
+  int fps = 30, width = 1280, height = 720;
+
+  app.add_flag("--headless", headless, "Run without a window" );
+  auto* o_seconds = app.add_option("--seconds", seconds, "Simulated seconds to run (default 20 headless; the viewer runs until closed)");
+  auto* o_steps = app.add_option("--steps", steps, "Number of steps to run instead of --seconds");
+  o_steps->excludes(o_seconds);
+  auto* o_dt = app.add_option("--dt", dt, "Step size h, s (seed: -step)");
+  auto* o_mass = app.add_option("--mass", mass, "Mass per point, kg (seed: -mass)");
+  auto* o_ks = app.add_option("--k-struct", k_struct, "Structural spring stiffness, N/m (seed: -stiff)");
+  auto* o_kb = app.add_option("--k-bend", k_bend, "Bend spring stiffness, N/m (seed: -wstiff)");
+  auto* o_damp = app.add_option("--damping", damping, "Damping gamma of eq. 6, N s/m (seed: -damp)");
+  auto* o_g = app.add_option("--gravity", gravity, "Gravity, m/s^2, pointing down -Y");
+  auto* o_eps = app.add_option("--epsilon", epsilon, "Collision band epsilon of eq. 12, m");
+  auto* o_krep = app.add_option("--k-rep", k_rep, "Penalty stiffness k_rep of eq. 12, N/m");
+  app.add_option("--report", report, "Write a JSON report of the run to this file");
+  auto* o_export = app.add_option("--export-obj", export_dir, "Write the cloth meshes as OBJ files into this directory");
+  app.add_option("--export-every", export_every, "With --export-obj: every K steps (default 10)")->check(CLI::PositiveNumber);
+  app.add_flag("--quiet", quiet, "No progress bar and no summary");
+  app.add_option("--screenshot", screenshot, "Viewer: render at --seconds, write this PNG and exit");
+  app.add_option("--frames", frames, "Viewer: write a PNG sequence into this directory up to --seconds");
+  app.add_option("--fps", fps, "Viewer: frames per simulated second for --frames (default 30)")->check(CLI::PositiveNumber);
+  app.add_option("--width", width, "Viewer: window width (default 1280)")->check(CLI::PositiveNumber);
+  app.add_option("--height", height, "Viewer: window height (default 720)")->check(CLI::PositiveNumber);
+  app.add_flag("--no-vsync", no_vsync, "Viewer: do not wait for vertical sync");
+  app.add_flag("--paused", paused, "Viewer: start paused");
+
+  // --help lists the built-in defaults next to this scene's baked values.
+  std::ostringstream foot;
+  auto row = [&foot](const char* name, double d, double s) {
+    foot << "  " << name << std::string(12 - std::string(name).size(), ' ') << fmt(d)
+         << std::string(d == s ? 0 : 1, ' ') << (d == s ? "" : "(scene '' : " + fmt(s) + ")") << "\n";
+  };
+  foot << "Physical options: built-in default, and where this scene bakes another value, the scene's:\n";
+  row("--dt", defaults.dt, scene_opts.dt);
+  row("--mass", defaults.mass, scene_opts.mass);
+  row("--k-struct", defaults.k_struct, scene_opts.k_struct);
+  row("--k-bend", defaults.k_bend, scene_opts.k_bend);
+  row("--damping", defaults.damping, scene_opts.damping);
+  row("--gravity", -defaults.gravity.y(), -scene_opts.gravity.y());
+  row("--epsilon", defaults.epsilon, scene_opts.epsilon);
+  row("--k-rep", defaults.k_rep, scene_opts.k_rep);
+  foot << "The command line overrides the scene. Exit codes: 0 ok, 1 the run failed "
+          "(non-finite state, I/O), 2 bad input.";
+  std::string footer = foot.str();
+  for (std::size_t p; (p = footer.find("scene ''")) != std::string::npos;)
+    footer.replace(p, 8, std::string("scene '") + scene.name + "'");
+  app.footer(footer);
+
+  std::vector<std::string> args = rewrite_seed_aliases(argc, argv);
+  std::reverse(args.begin(), args.end());  // CLI11 parses a reversed vector
+  try {
+    app.parse(args);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    return bad_input(e.what());
+  }
+
+  Options opts = scene_opts;
+  if (o_dt->count()) opts.dt = dt;
+  if (o_mass->count()) opts.mass = mass;
+  if (o_ks->count()) opts.k_struct = k_struct;
+  if (o_kb->count()) opts.k_bend = k_bend;
+  if (o_damp->count()) opts.damping = damping;
+  if (o_g->count()) opts.gravity = Eigen::Vector3d(0.0, -gravity, 0.0);
+  if (o_eps->count()) opts.epsilon = epsilon;
+  if (o_krep->count()) opts.k_rep = k_rep;
+  if (const std::string why = validate_options(opts); !why.empty()) return bad_input(why);
+  if (o_seconds->count() && !(std::isfinite(seconds) && seconds > 0.0))
+    return bad_input("--seconds must be a finite number > 0 (got " + fmt(seconds) + ")");
+  if (o_steps->count() && steps == 0) return bad_input("--steps must be > 0");
+  if (!report.empty()) {
+    const fs::path parent = fs::path(report).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent))
+      return bad_input("--report: directory '" + parent.string() + "' does not exist");
+  }
+  if (!quiet)
+    for (const auto& k : unknown_params)
+      std::cerr << "clothsim: note: scene '" << scene.name << "' bakes param '" << k << "', which is no simulator option\n";
+
+  Model model;
+  try {
+    model = build_model(scene, opts);
+  } catch (const std::exception& e) {
+    std::cerr << "clothsim: error: " << e.what() << "\n";
+    return kExitFailed;
+  }
+
+#ifdef CLOTHSIM_HAVE_VIEWER
+  if (!headless) {
+    ViewerOptions vo;
+    vo.width = width;
+    vo.height = height;
+    vo.vsync = !no_vsync;
+    vo.paused = paused;
+    vo.screenshot = screenshot;
+    vo.frames_dir = frames;
+    vo.fps = fps;
+    if (o_seconds->count()) vo.seconds = seconds;
+    else if (o_steps->count()) vo.seconds = static_cast<double>(steps) * opts.dt;
+    return run_viewer(scene, model, vo);
+  }
+#else
+  if (!screenshot.empty() || !frames.empty())
+    return bad_input("--screenshot/--frames need the viewer, and this clothsim was built without it");
+#endif
+  (void)no_vsync;
+  (void)paused;
+
+  const std::uint64_t total =
+      o_steps->count() ? steps : static_cast<std::uint64_t>(std::llround(seconds / opts.dt));
+  if (total == 0) return bad_input("--seconds " + fmt(seconds) + " is less than one step of " + fmt(opts.dt) + " s");
+
+  const fs::path export_path = export_dir;
+  if (o_export->count()) {
+    std::error_code ec;
+    fs::create_directories(export_path, ec);
+    if (ec || !fs::is_directory(export_path)) {
+      std::cerr << "clothsim: error: --export-obj: cannot create directory '" << export_dir << "'\n";
+      return kExitFailed;
+    }
+  }
+
+  State state = make_state(model);
+  Workspace ws = make_workspace(model);
+  Progress progress(total, !quiet && ::isatty(STDERR_FILENO));
+  const double omega = gershgorin_omega_max(model);
+  const double stable_dt = omega > 0 ? 2.0 / omega : std::numeric_limits<double>::infinity();
+  bool finite = true;
+  std::chrono::steady_clock::duration step_time{};
+  std::uint64_t failed_step = 0;
+  if (o_export->count() && !export_obj(export_path, scene, model, state)) {
+    std::cerr << "clothsim: error: --export-obj: cannot write into '" << export_dir << "'\n";
+    return kExitFailed;
+  }
+  for (std::uint64_t i = 0; i < total; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const StepStatus st = step(model, state, ws);
+    step_time += std::chrono::steady_clock::now() - t0;
+    if (!st.finite) {
+      finite = false;
+      failed_step = state.steps;
+      break;
+    }
+    if (o_export->count() && state.steps % export_every == 0 && !export_obj(export_path, scene, model, state)) {
+      std::cerr << "\nclothsim: error: --export-obj: cannot write into '" << export_dir << "'\n";
+      return kExitFailed;
+    }
+    progress.update(i + 1, state.t);
+  }
+  progress.finish();
+
+  const double ms_per_step =
+      state.steps ? std::chrono::duration<double, std::milli>(step_time).count() / static_cast<double>(state.steps) : 0.0;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()), hi = lo;
+  if (model.mass_count() > 0) {
+    lo = state.x.rowwise().minCoeff();
+    hi = state.x.rowwise().maxCoeff();
+  }
+  const double ke = kinetic_energy(model, state);
+  auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+
+  if (!finite)
+    std::cerr << "clothsim: error: the state became non-finite at step " << failed_step << " (t = " << state.t
+              << " s). Likely cause: dt = " << opts.dt << " s is above the stability limit; the Gershgorin "
+              << "estimate 2/omega_max is " << stable_dt << " s (lower --dt, or soften --k-struct/--k-rep)\n";
+
+  if (!report.empty()) {
+    json r;
+    r["scene"] = model.scene_name;
+    r["version"] = CLOTHSIM_VERSION;
+    r["masses"] = model.mass_count();
+    r["springs"] = model.spring_count();
+    r["collider_triangles"] = collider_triangle_count(model);
+    r["dt"] = opts.dt;
+    r["steps"] = state.steps;
+    r["seconds_simulated"] = state.t;
+    r["ms_per_step"] = ms_per_step;
+    r["finite"] = finite;
+    if (!finite) r["failed_step"] = failed_step;
+    r["cloth_min"] = {num(lo.x()), num(lo.y()), num(lo.z())};
+    r["cloth_max"] = {num(hi.x()), num(hi.y()), num(hi.z())};
+    r["max_penetration"] = num(state.max_penetration);
+    r["kinetic_energy"] = num(ke);
+    r["stable_dt_estimate"] = num(stable_dt);
+    r["options"] = options_json(opts);
+    if (!write_atomically(report, r.dump(2) + "\n")) {
+      std::cerr << "clothsim: error: --report: cannot write '" << report << "'\n";
+      return kExitFailed;
+    }
+  }
+  if (!finite) return kExitFailed;
+  if (!quiet)
+    std::cout << model.scene_name << ": " << state.steps << " steps (" << state.t << " s simulated), "
+              << ms_per_step << " ms/step, max penetration " << state.max_penetration << " m, kinetic energy "
+              << ke << " J, cloth y " << lo.y() << " .. " << hi.y() << "\n";
+  return 0;
+}
+
+}  // namespace clothsim
