@@ -17,7 +17,17 @@ struct ViewerOptions {
   std::string frames_dir;       ///< non-empty: write a PNG sequence at `fps` up to `seconds`
   int fps = 30;
   double seconds = -1.0;        ///< simulated seconds for screenshot/frames; < 0: run until closed
+  // --- additions of the viewer (issue 4) ---
+  bool flat_cloth = false;      ///< test mode: cloth drawn unlit in kFlatClothRgb, no texture
+  bool hide_cloth = false;      ///< test mode: draw the colliders only
+  double max_work_per_frame = 0.1;  ///< s of stepping per frame at most; beyond it run slower than real time
 };
+
+/// The flat cloth colour of ViewerOptions::flat_cloth (8-bit RGB), for tests that look for it.
+inline constexpr unsigned char kFlatClothRgb[3] = {255, 0, 255};
+
+/// The viewer's keys and mouse buttons, one per line, for the app's --help.
+const char* viewer_help_text();
 
 /// Opens the window (hidden for screenshot/frames) and runs until it is closed or the
 /// screenshot/frames are written. Returns a process exit code (0 on success); prints errors.

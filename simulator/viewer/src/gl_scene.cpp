@@ -1,0 +1,427 @@
+#include "gl_scene.hpp"
+
+#include <blender2ogl/scene_types.h>
+#include <clothsim/sim.hpp>
+#include <clothsim/view/cloth_mesh.hpp>
+#include <clothsim/viewer.hpp>
+
+#include <stb/stb_image.h>
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace clothsim::view {
+
+namespace {
+
+const char* kMeshVs = R"(#version 330 core
+layout(location = 0) in vec3 a_pos;
+layout(location = 1) in vec3 a_nrm;
+layout(location = 2) in vec2 a_uv;
+uniform mat4 u_view_proj;
+out vec3 v_pos;
+out vec3 v_nrm;
+out vec2 v_uv;
+void main() {
+  v_pos = a_pos;
+  v_nrm = a_nrm;
+  v_uv = a_uv;
+  gl_Position = u_view_proj * vec4(a_pos, 1.0);
+}
+)";
+
+// Blinn-Phong with a key and a fill light; two-sided: back faces use the flipped normal.
+const char* kMeshFs = R"(#version 330 core
+in vec3 v_pos;
+in vec3 v_nrm;
+in vec2 v_uv;
+uniform vec3 u_eye;
+uniform vec3 u_kd;
+uniform vec3 u_ks;
+uniform float u_ns;
+uniform bool u_has_tex;
+uniform sampler2D u_tex;
+uniform int u_mode;      // 0 lit, 1 flat colour
+uniform vec3 u_flat;
+out vec4 o_color;
+vec3 light(vec3 n, vec3 v, vec3 l, vec3 base, float strength) {
+  float d = max(dot(n, l), 0.0);
+  vec3 h = normalize(l + v);
+  float s = d > 0.0 ? pow(max(dot(n, h), 0.0), max(u_ns, 1.0)) : 0.0;
+  return strength * (base * d + 0.5 * u_ks * s);
+}
+void main() {
+  if (u_mode == 1) { o_color = vec4(u_flat, 1.0); return; }
+  vec3 base = u_has_tex ? texture(u_tex, v_uv).rgb : u_kd;
+  vec3 n = normalize(v_nrm);
+  if (!gl_FrontFacing) n = -n;
+  vec3 v = normalize(u_eye - v_pos);
+  vec3 c = 0.25 * base;
+  c += light(n, v, normalize(vec3(0.35, 0.9, 0.45)), base, 0.8);
+  c += light(n, v, normalize(vec3(-0.6, 0.3, -0.5)), base, 0.3);
+  o_color = vec4(min(c, vec3(1.0)), 1.0);
+}
+)";
+
+const char* kLineVs = R"(#version 330 core
+layout(location = 0) in vec3 a_pos;
+uniform mat4 u_view_proj;
+void main() { gl_Position = u_view_proj * vec4(a_pos, 1.0); }
+)";
+
+const char* kLineFs = R"(#version 330 core
+uniform vec3 u_color;
+out vec4 o_color;
+void main() { o_color = vec4(u_color, 1.0); }
+)";
+
+// A full-screen triangle with a sky-to-ground gradient.
+const char* kBgVs = R"(#version 330 core
+out float v_y;
+void main() {
+  vec2 p = vec2((gl_VertexID == 1) ? 3.0 : -1.0, (gl_VertexID == 2) ? 3.0 : -1.0);
+  v_y = 0.5 * (p.y + 1.0);
+  gl_Position = vec4(p, 0.999, 1.0);
+}
+)";
+
+const char* kBgFs = R"(#version 330 core
+in float v_y;
+out vec4 o_color;
+void main() {
+  vec3 ground = vec3(0.80, 0.79, 0.74), sky = vec3(0.55, 0.66, 0.82);
+  o_color = vec4(mix(ground, sky, smoothstep(0.0, 1.0, v_y)), 1.0);
+}
+)";
+
+GLuint compile(GLenum kind, const char* src, const char* what) {
+  const GLuint s = glCreateShader(kind);
+  glShaderSource(s, 1, &src, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[1024] = {};
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    glDeleteShader(s);
+    for (char& c : log) if (c == '\n') c = ' ';
+    throw std::runtime_error(std::string("the ") + what + " shader does not compile: " + log);
+  }
+  return s;
+}
+
+GLuint program(const char* vs, const char* fs, const char* what) {
+  const GLuint v = compile(GL_VERTEX_SHADER, vs, what);
+  const GLuint f = compile(GL_FRAGMENT_SHADER, fs, what);
+  const GLuint p = glCreateProgram();
+  glAttachShader(p, v);
+  glAttachShader(p, f);
+  glLinkProgram(p);
+  glDeleteShader(v);
+  glDeleteShader(f);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[1024] = {};
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
+    glDeleteProgram(p);
+    for (char& c : log) if (c == '\n') c = ' ';
+    throw std::runtime_error(std::string("the ") + what + " shader does not link: " + log);
+  }
+  return p;
+}
+
+GLuint load_texture(const b2o::Texture& t, const char* scene_name) {
+  int w = 0, h = 0, channels = 0;
+  stbi_uc* pixels = stbi_load_from_memory(t.bytes, static_cast<int>(t.size), &w, &h, &channels, 4);
+  if (!pixels)
+    throw std::runtime_error(std::string("scene '") + scene_name + "': texture '" +
+                             (t.name ? t.name : "?") + "' cannot be decoded: " + stbi_failure_reason());
+  // Images are stored top row first; GL and OBJ texture coordinates start at the bottom.
+  const std::size_t row = static_cast<std::size_t>(w) * 4;
+  std::vector<unsigned char> flipped(row * static_cast<std::size_t>(h));
+  for (int y = 0; y < h; ++y)
+    std::memcpy(flipped.data() + row * static_cast<std::size_t>(h - 1 - y), pixels + row * static_cast<std::size_t>(y), row);
+  stbi_image_free(pixels);
+  GLuint id = 0;
+  glGenTextures(1, &id);
+  glBindTexture(GL_TEXTURE_2D, id);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, flipped.data());
+  glGenerateMipmap(GL_TEXTURE_2D);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+  return id;
+}
+
+const void* byte_offset(std::size_t bytes) { return reinterpret_cast<const void*>(bytes); }
+
+}  // namespace
+
+// --- RenderTarget ---------------------------------------------------------------------------
+
+void RenderTarget::release() {
+  const GLuint fbos[] = {msaa_fbo_, fbo_};
+  const GLuint rbs[] = {msaa_color_, msaa_depth_, color_, depth_};
+  if (msaa_fbo_ || fbo_) glDeleteFramebuffers(2, fbos);
+  if (msaa_color_ || color_) glDeleteRenderbuffers(4, rbs);
+  msaa_fbo_ = msaa_color_ = msaa_depth_ = fbo_ = color_ = depth_ = 0;
+}
+
+bool RenderTarget::resize(int w, int h) {
+  if (w <= 0 || h <= 0) return true;  // minimised: keep the old target
+  if (w == width && h == height && fbo_) return true;
+  release();
+  width = w;
+  height = h;
+  GLint max_samples = 0;
+  glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
+  const GLsizei samples = std::min(4, static_cast<int>(max_samples));
+  auto make = [&](GLuint& fbo, GLuint& color, GLuint& depth, GLsizei n) {
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glGenRenderbuffers(1, &color);
+    glBindRenderbuffer(GL_RENDERBUFFER, color);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, n, GL_RGBA8, w, h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
+    glGenRenderbuffers(1, &depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, n, GL_DEPTH24_STENCIL8, w, h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth);
+    return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+  };
+  bool ok = make(msaa_fbo_, msaa_color_, msaa_depth_, samples);
+  ok = make(fbo_, color_, depth_, 0) && ok;
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return ok;
+}
+
+void RenderTarget::bind_for_drawing() const {
+  glBindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
+  glViewport(0, 0, width, height);
+}
+
+void RenderTarget::resolve() const {
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo_);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+  glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void RenderTarget::blit_to_window() const {
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+  glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+std::vector<unsigned char> RenderTarget::read_rgb() const {
+  const std::size_t row = static_cast<std::size_t>(width) * 3;
+  std::vector<unsigned char> bottom_up(row * static_cast<std::size_t>(height)), top_down(bottom_up.size());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, bottom_up.data());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  for (int y = 0; y < height; ++y)  // GL's first row is the bottom one; PNG's the top one
+    std::memcpy(top_down.data() + row * static_cast<std::size_t>(y),
+                bottom_up.data() + row * static_cast<std::size_t>(height - 1 - y), row);
+  return top_down;
+}
+
+// --- GlScene --------------------------------------------------------------------------------
+
+GlScene::~GlScene() {
+  glDeleteProgram(mesh_prog_);
+  glDeleteProgram(line_prog_);
+  glDeleteProgram(bg_prog_);
+  const GLuint bufs[] = {pos_vbo_, nrm_vbo_, uv_vbo_, ebo_, mass_vbo_, spring_ebo_, drag_vbo_};
+  glDeleteBuffers(7, bufs);
+  const GLuint vaos[] = {mesh_vao_, spring_vao_, drag_vao_, bg_vao_};
+  glDeleteVertexArrays(4, vaos);
+  if (!textures_.empty()) glDeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
+}
+
+void GlScene::init(const b2o::Scene& scene, const Model& model) {
+  mesh_prog_ = program(kMeshVs, kMeshFs, "mesh");
+  line_prog_ = program(kLineVs, kLineFs, "line");
+  bg_prog_ = program(kBgVs, kBgFs, "background");
+  mu_ = {glGetUniformLocation(mesh_prog_, "u_view_proj"), glGetUniformLocation(mesh_prog_, "u_eye"),
+         glGetUniformLocation(mesh_prog_, "u_kd"),        glGetUniformLocation(mesh_prog_, "u_ks"),
+         glGetUniformLocation(mesh_prog_, "u_ns"),        glGetUniformLocation(mesh_prog_, "u_has_tex"),
+         glGetUniformLocation(mesh_prog_, "u_tex"),       glGetUniformLocation(mesh_prog_, "u_mode"),
+         glGetUniformLocation(mesh_prog_, "u_flat")};
+  line_view_proj_ = glGetUniformLocation(line_prog_, "u_view_proj");
+  line_color_ = glGetUniformLocation(line_prog_, "u_color");
+
+  for (std::uint32_t t = 0; t < scene.texture_count; ++t)
+    textures_.push_back(load_texture(scene.textures[t], scene.name ? scene.name : "?"));
+
+  // The mesh: positions and normals change for cloth vertices, texcoords never.
+  const std::size_t nv = scene.vertex_count;
+  positions_.assign(scene.positions, scene.positions + 3 * nv);
+  normals_.assign(scene.normals, scene.normals + 3 * nv);
+  glGenVertexArrays(1, &mesh_vao_);
+  glBindVertexArray(mesh_vao_);
+  auto attribute = [](GLuint& vbo, GLuint loc, int comps, const float* data, std::size_t count, GLenum usage) {
+    glGenBuffers(1, &vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(count * comps * sizeof(float)), data, usage);
+    glEnableVertexAttribArray(loc);
+    glVertexAttribPointer(loc, comps, GL_FLOAT, GL_FALSE, 0, nullptr);
+  };
+  attribute(pos_vbo_, 0, 3, positions_.data(), nv, GL_DYNAMIC_DRAW);
+  attribute(nrm_vbo_, 1, 3, normals_.data(), nv, GL_DYNAMIC_DRAW);
+  attribute(uv_vbo_, 2, 2, scene.texcoords, nv, GL_STATIC_DRAW);
+  glGenBuffers(1, &ebo_);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo_);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(scene.index_count * sizeof(std::uint32_t)),
+               scene.indices, GL_STATIC_DRAW);
+
+  // Springs: lines between mass positions, structural first, then bend.
+  std::vector<std::uint32_t> lines;
+  lines.reserve(2 * model.spring_count());
+  auto add_kind = [&](bool structural) {
+    for (std::size_t s = 0; s < model.spring_count(); ++s)
+      if ((model.spring_kind[s] == 0) == structural) {
+        lines.push_back(model.spring_a[s]);
+        lines.push_back(model.spring_b[s]);
+      }
+  };
+  add_kind(true);
+  structural_springs_ = lines.size() / 2;
+  add_kind(false);
+  bend_springs_ = lines.size() / 2 - structural_springs_;
+  for (const ClothRange& r : model.cloths) code_built_cloth_ = code_built_cloth_ || r.scene_cloth < 0;
+  mass_positions_.assign(3 * model.mass_count(), 0.0f);
+  glGenVertexArrays(1, &spring_vao_);
+  glBindVertexArray(spring_vao_);
+  attribute(mass_vbo_, 0, 3, mass_positions_.data(), model.mass_count(), GL_DYNAMIC_DRAW);
+  glGenBuffers(1, &spring_ebo_);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, spring_ebo_);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(lines.size() * sizeof(std::uint32_t)),
+               lines.data(), GL_STATIC_DRAW);
+
+  glGenVertexArrays(1, &drag_vao_);
+  glBindVertexArray(drag_vao_);
+  attribute(drag_vbo_, 0, 3, nullptr, 2, GL_DYNAMIC_DRAW);
+
+  glGenVertexArrays(1, &bg_vao_);  // core profiles draw nothing without a bound VAO
+  glBindVertexArray(0);
+}
+
+void GlScene::upload_state(const b2o::Scene& scene, const Model& model, const State& state,
+                           bool springs) {
+  if (!update_cloth_vertices(scene, model, state, positions_, normals_, scratch_)) return;
+  glBindVertexArray(0);
+  for (const ClothRange& r : model.cloths) {
+    if (r.scene_cloth < 0) continue;
+    const b2o::Object& obj = scene.objects[scene.cloths[r.scene_cloth].object];
+    const auto offset = static_cast<GLintptr>(obj.first_vertex * 3 * sizeof(float));
+    const auto bytes = static_cast<GLsizeiptr>(obj.vertex_count * 3 * sizeof(float));
+    glBindBuffer(GL_ARRAY_BUFFER, pos_vbo_);
+    glBufferSubData(GL_ARRAY_BUFFER, offset, bytes, positions_.data() + obj.first_vertex * 3);
+    glBindBuffer(GL_ARRAY_BUFFER, nrm_vbo_);
+    glBufferSubData(GL_ARRAY_BUFFER, offset, bytes, normals_.data() + obj.first_vertex * 3);
+  }
+  if (springs || code_built_cloth_) {
+    for (std::size_t i = 0; i < mass_positions_.size(); ++i)
+      mass_positions_[i] = static_cast<float>(state.x.data()[i]);
+    glBindBuffer(GL_ARRAY_BUFFER, mass_vbo_);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(mass_positions_.size() * sizeof(float)),
+                    mass_positions_.data());
+  }
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+void GlScene::draw(const b2o::Scene& scene, const Model& model, const Eigen::Matrix4f& view_proj,
+                   const Eigen::Vector3d& eye, const RenderFlags& flags) {
+  target.bind_for_drawing();
+  glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glDisable(GL_CULL_FACE);  // cloth has two sides; colliders are closed or seen from above
+
+  glDisable(GL_DEPTH_TEST);
+  glUseProgram(bg_prog_);
+  glBindVertexArray(bg_vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LEQUAL);
+
+  // Meshes are pushed back a little so that spring lines on them stay visible.
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.0f, 1.0f);
+  glPolygonMode(GL_FRONT_AND_BACK, flags.wireframe ? GL_LINE : GL_FILL);
+  glUseProgram(mesh_prog_);
+  glUniformMatrix4fv(mu_.view_proj, 1, GL_FALSE, view_proj.data());
+  glUniform3f(mu_.eye, static_cast<float>(eye.x()), static_cast<float>(eye.y()), static_cast<float>(eye.z()));
+  glUniform1i(mu_.tex, 0);
+  glUniform3f(mu_.flat, kFlatClothRgb[0] / 255.0f, kFlatClothRgb[1] / 255.0f, kFlatClothRgb[2] / 255.0f);
+  glActiveTexture(GL_TEXTURE0);
+  glBindVertexArray(mesh_vao_);
+  auto draw_range = [&](std::uint32_t first_index, std::uint32_t count, std::int32_t material) {
+    if (material >= 0 && static_cast<std::uint32_t>(material) < scene.material_count) {
+      const b2o::Material& m = scene.materials[material];
+      glUniform3fv(mu_.kd, 1, m.diffuse);
+      glUniform3fv(mu_.ks, 1, m.specular);
+      glUniform1f(mu_.ns, m.shininess);
+      const bool tex = m.diffuse_texture >= 0 && static_cast<std::size_t>(m.diffuse_texture) < textures_.size();
+      glUniform1i(mu_.has_tex, tex ? 1 : 0);
+      if (tex) glBindTexture(GL_TEXTURE_2D, textures_[static_cast<std::size_t>(m.diffuse_texture)]);
+    } else {  // no material: a neutral grey
+      glUniform3f(mu_.kd, 0.7f, 0.7f, 0.7f);
+      glUniform3f(mu_.ks, 0.2f, 0.2f, 0.2f);
+      glUniform1f(mu_.ns, 20.0f);
+      glUniform1i(mu_.has_tex, 0);
+    }
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), GL_UNSIGNED_INT,
+                   byte_offset(std::size_t{first_index} * sizeof(std::uint32_t)));
+  };
+  for (std::uint32_t o = 0; o < scene.object_count; ++o) {
+    const b2o::Object& obj = scene.objects[o];
+    const bool cloth = obj.cloth != b2o::kNone;
+    if (cloth && flags.hide_cloth) continue;
+    glUniform1i(mu_.mode, cloth && flags.flat_cloth ? 1 : 0);
+    if (obj.submesh_count == 0) {
+      draw_range(obj.first_index, obj.index_count, b2o::kNone);
+      continue;
+    }
+    for (std::uint32_t s = obj.first_submesh; s < obj.first_submesh + obj.submesh_count; ++s)
+      draw_range(scene.submeshes[s].first_index, scene.submeshes[s].index_count, scene.submeshes[s].material);
+  }
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+
+  glUseProgram(line_prog_);
+  glUniformMatrix4fv(line_view_proj_, 1, GL_FALSE, view_proj.data());
+  if ((flags.springs || code_built_cloth_) && !flags.hide_cloth) {
+    glBindVertexArray(spring_vao_);
+    glUniform3f(line_color_, 0.85f, 0.1f, 0.1f);  // structural red, bend green: the report's fig. 3
+    glDrawElements(GL_LINES, static_cast<GLsizei>(2 * structural_springs_), GL_UNSIGNED_INT, nullptr);
+    glUniform3f(line_color_, 0.1f, 0.6f, 0.1f);
+    glDrawElements(GL_LINES, static_cast<GLsizei>(2 * bend_springs_), GL_UNSIGNED_INT,
+                   byte_offset(2 * structural_springs_ * sizeof(std::uint32_t)));
+  }
+  if (flags.drag_mass >= 0 && static_cast<std::size_t>(flags.drag_mass) < model.mass_count()) {
+    // The pull as a line from the grabbed point (as last drawn) to the cursor.
+    const std::size_t m = static_cast<std::size_t>(flags.drag_mass);
+    const float line[6] = {mass_positions_[3 * m], mass_positions_[3 * m + 1], mass_positions_[3 * m + 2],
+                           static_cast<float>(flags.drag_target.x()), static_cast<float>(flags.drag_target.y()),
+                           static_cast<float>(flags.drag_target.z())};
+    glBindVertexArray(drag_vao_);
+    glBindBuffer(GL_ARRAY_BUFFER, drag_vbo_);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, sizeof line, line);
+    glUniform3f(line_color_, 1.0f, 0.85f, 0.1f);
+    glDisable(GL_DEPTH_TEST);
+    glDrawArrays(GL_LINES, 0, 2);
+    glEnable(GL_DEPTH_TEST);
+  }
+  glBindVertexArray(0);
+  target.resolve();
+}
+
+}  // namespace clothsim::view

@@ -1,0 +1,86 @@
+// The GL side of the viewer: buffers, textures, shaders, an offscreen multisampled target.
+// Needs a current GL 3.3 core context; throws std::runtime_error with a one-line reason.
+#pragma once
+
+#include <Eigen/Core>
+#include <GL/glew.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace b2o { struct Scene; }
+namespace clothsim {
+struct Model;
+struct State;
+}
+
+namespace clothsim::view {
+
+struct RenderFlags {
+  bool wireframe = false;
+  bool springs = false;
+  bool flat_cloth = false;
+  bool hide_cloth = false;
+  std::int32_t drag_mass = -1;
+  Eigen::Vector3d drag_target = Eigen::Vector3d::Zero();
+};
+
+/// Where every frame is drawn: a 4x multisampled FBO resolved into a plain one, which is
+/// read for PNGs and blitted to the window.
+class RenderTarget {
+ public:
+  RenderTarget() = default;
+  RenderTarget(const RenderTarget&) = delete;
+  RenderTarget& operator=(const RenderTarget&) = delete;
+  ~RenderTarget() { release(); }
+
+  bool resize(int w, int h);  ///< false if the FBO is incomplete (sizes <= 0 are ignored)
+  void bind_for_drawing() const;
+  void resolve() const;
+  void blit_to_window() const;
+  std::vector<unsigned char> read_rgb() const;  ///< top row first
+
+  int width = 0, height = 0;
+
+ private:
+  void release();
+  GLuint msaa_fbo_ = 0, msaa_color_ = 0, msaa_depth_ = 0;
+  GLuint fbo_ = 0, color_ = 0, depth_ = 0;
+};
+
+class GlScene {
+ public:
+  GlScene() = default;
+  GlScene(const GlScene&) = delete;
+  GlScene& operator=(const GlScene&) = delete;
+  ~GlScene();
+
+  void init(const b2o::Scene& scene, const Model& model);
+  /// Copies the cloth's current positions/normals (and the mass positions for springs) to the GPU.
+  /// Skipped when the state is not finite: the last good picture stays.
+  void upload_state(const b2o::Scene& scene, const Model& model, const State& state, bool springs);
+  void draw(const b2o::Scene& scene, const Model& model, const Eigen::Matrix4f& view_proj,
+            const Eigen::Vector3d& eye, const RenderFlags& flags);
+
+  RenderTarget target;
+
+ private:
+  struct MeshUniforms {
+    GLint view_proj, eye, kd, ks, ns, has_tex, tex, mode, flat;
+  };
+  GLuint mesh_prog_ = 0, line_prog_ = 0, bg_prog_ = 0;
+  MeshUniforms mu_{};
+  GLint line_view_proj_ = -1, line_color_ = -1;
+  GLuint mesh_vao_ = 0, pos_vbo_ = 0, nrm_vbo_ = 0, uv_vbo_ = 0, ebo_ = 0;
+  GLuint spring_vao_ = 0, mass_vbo_ = 0, spring_ebo_ = 0;
+  GLuint drag_vao_ = 0, drag_vbo_ = 0;
+  GLuint bg_vao_ = 0;
+  std::vector<GLuint> textures_;
+  std::size_t structural_springs_ = 0, bend_springs_ = 0;
+  bool code_built_cloth_ = false;  // a cloth with no scene mesh: always drawn as springs
+
+  std::vector<float> positions_, normals_, mass_positions_;
+  std::vector<double> scratch_;
+};
+
+}  // namespace clothsim::view

@@ -1,0 +1,28 @@
+#include <clothsim/view/pacing.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace clothsim::view {
+
+namespace {
+// A longer gap between frames (a stall: window moved, process stopped) is not caught up.
+constexpr double kMaxFrameGap = 0.25;
+}
+
+long StepClock::steps_due(double elapsed_wall, double step_cost) {
+  if (!(elapsed_wall > 0.0)) elapsed_wall = 0.0;  // a clock that went backwards, or NaN
+  accumulator_ += std::min(elapsed_wall, kMaxFrameGap);
+  const long due = static_cast<long>(std::floor(accumulator_ / dt_ + 1e-9));
+  // At least one step always fits, otherwise a slow step would freeze the picture.
+  const long affordable =
+      step_cost > 0.0 ? std::max(1L, static_cast<long>(max_work_ / step_cost)) : due;
+  const long n = std::min(due, affordable);
+  behind_ = due > affordable;
+  accumulator_ -= static_cast<double>(n) * dt_;
+  if (behind_) accumulator_ = std::fmod(accumulator_, dt_);  // drop the backlog: no spiral
+  accumulator_ = std::max(accumulator_, 0.0);
+  return n;
+}
+
+}  // namespace clothsim::view

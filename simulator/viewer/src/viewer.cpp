@@ -1,0 +1,447 @@
+// The window, the GL resources and the loops (interactive and offscreen). Everything the
+// viewer computes without GL lives in camera/pacing/cloth_mesh, which are unit-tested.
+#include <clothsim/viewer.hpp>
+
+#include <blender2ogl/scene_types.h>
+#include <clothsim/sim.hpp>
+#include <clothsim/step.hpp>
+#include <clothsim/view/camera.hpp>
+#include <clothsim/view/cloth_mesh.hpp>
+#include <clothsim/view/pacing.hpp>
+
+#include "gl_scene.hpp"
+#include "png_io.hpp"
+
+#include <GL/glew.h>
+#include <GLFW/glfw3.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+namespace clothsim {
+
+const char* viewer_help_text() {
+  return "Viewer keys and mouse:\n"
+         "  Space          pause / resume\n"
+         "  N or .         single step (while paused)\n"
+         "  R              reset to t = 0\n"
+         "  W              wireframe on/off\n"
+         "  S              show springs (structural red, bend green)\n"
+         "  P              screenshot: clothsim_NNNN.png in the current directory\n"
+         "  Esc or Q       quit\n"
+         "  left drag      on the cloth: pull that point; elsewhere: orbit\n"
+         "  right drag     orbit\n"
+         "  middle drag or Shift+left drag   pan\n"
+         "  wheel          zoom\n";
+}
+
+namespace {
+
+std::string g_glfw_error;  // the last GLFW error, for the one-line message
+
+void on_glfw_error(int code, const char* what) {
+  g_glfw_error = std::string(what ? what : "unknown") + " (GLFW error " + std::to_string(code) + ")";
+}
+
+using Clock = std::chrono::steady_clock;
+
+struct GlfwSession {
+  GLFWwindow* window = nullptr;
+  ~GlfwSession() {
+    if (window) glfwDestroyWindow(window);
+    glfwTerminate();
+  }
+};
+
+std::string no_display_hint() {
+  const char* d = std::getenv("DISPLAY");
+  const char* w = std::getenv("WAYLAND_DISPLAY");
+  if ((!d || !*d) && (!w || !*w)) return "; no DISPLAY is set: run it under `xvfb-run -a`";
+  return "";
+}
+
+class Viewer {
+ public:
+  Viewer(const b2o::Scene& scene, const Model& model, const ViewerOptions& opt)
+      : scene_(scene), model_(model), opt_(opt), state_(make_state(model)),
+        ws_(make_workspace(model)), clock_(model.options.dt, opt.max_work_per_frame) {
+    paused_ = opt.paused;
+  }
+
+  int run(GLFWwindow* window) {
+    window_ = window;
+    gpu_.init(scene_, model_);  // throws std::runtime_error with a one-line reason
+    int fw = 0, fh = 0;
+    glfwGetFramebufferSize(window, &fw, &fh);
+    const bool offscreen = !opt_.screenshot.empty() || !opt_.frames_dir.empty();
+    if (offscreen) {
+      fw = opt_.width;
+      fh = opt_.height;
+    }
+    Eigen::Vector3d lo, hi;
+    view::framing_box(scene_, model_, lo, hi);
+    camera_.frame(lo, hi, static_cast<double>(fw) / std::max(fh, 1));
+    gpu_.target.resize(fw, fh);
+    gpu_.upload_state(scene_, model_, state_, true);
+    return offscreen ? run_offscreen() : run_interactive();
+  }
+
+ private:
+  // --- offscreen: --screenshot / --frames ----------------------------------------------
+  bool advance_to(double t) {
+    const double dt = model_.options.dt;
+    while (state_.t < t - 0.5 * dt) {
+      if (!step(model_, state_, ws_).finite) {
+        std::fprintf(stderr, "clothsim: the simulation became non-finite at t = %.3f s (step %llu); "
+                     "no picture written (try a smaller --dt)\n", state_.t,
+                     static_cast<unsigned long long>(state_.steps));
+        return false;
+      }
+    }
+    return true;
+  }
+
+  bool render_to_png(const std::string& path) {
+    gpu_.upload_state(scene_, model_, state_, false);
+    render();
+    std::vector<unsigned char> rgb = gpu_.target.read_rgb();
+    std::string err = view::write_png(path, gpu_.target.width, gpu_.target.height, rgb);
+    if (!err.empty()) {
+      std::fprintf(stderr, "clothsim: %s\n", err.c_str());
+      return false;
+    }
+    return true;
+  }
+
+  int run_offscreen() {
+    if (!opt_.screenshot.empty()) {
+      if (!advance_to(std::max(opt_.seconds, 0.0))) return 1;
+      if (!render_to_png(opt_.screenshot)) return 1;
+    }
+    if (!opt_.frames_dir.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(opt_.frames_dir, ec);
+      if (ec) {
+        std::fprintf(stderr, "clothsim: %s: cannot create the frames directory: %s\n",
+                     opt_.frames_dir.c_str(), ec.message().c_str());
+        return 1;
+      }
+      state_ = make_state(model_);
+      const long frames = static_cast<long>(std::floor(opt_.seconds * opt_.fps + 1e-9)) + 1;
+      for (long i = 0; i < frames; ++i) {
+        if (!advance_to(static_cast<double>(i) / opt_.fps)) return 1;
+        char name[32];
+        std::snprintf(name, sizeof name, "frame_%05ld.png", i);
+        if (!render_to_png((std::filesystem::path(opt_.frames_dir) / name).string())) return 1;
+      }
+    }
+    return 0;
+  }
+
+  // --- interactive -----------------------------------------------------------------------
+  int run_interactive() {
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetFramebufferSizeCallback(window_, [](GLFWwindow* w, int width, int height) {
+      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->gpu_.target.resize(width, height);
+    });
+    glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int) {
+      if (action == GLFW_PRESS || action == GLFW_REPEAT)
+        static_cast<Viewer*>(glfwGetWindowUserPointer(w))->on_key(key, action);
+    });
+    glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int mods) {
+      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->on_button(button, action, mods);
+    });
+    glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) {
+      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->on_cursor(x, y);
+    });
+    glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double dy) {
+      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->camera_.zoom(dy);
+    });
+
+    auto last = Clock::now();
+    auto window_start = last;
+    double window_sim_start = state_.t, window_step_time = 0.0;
+    std::uint64_t window_steps = 0;
+    update_title(0.0, 0.0, 0.0);
+    while (!glfwWindowShouldClose(window_)) {
+      glfwPollEvents();
+      const auto now = Clock::now();
+      const double elapsed = std::chrono::duration<double>(now - last).count();
+      last = now;
+      long n = 0;
+      if (!paused_) {
+        n = clock_.steps_due(elapsed, step_cost_);
+      } else {
+        clock_.reset();
+        if (single_step_) n = 1;
+      }
+      single_step_ = false;
+      if (n > 0) {
+        update_drag_target();
+        const auto t0 = Clock::now();
+        long done = 0;
+        for (; done < n; ++done) {
+          if (!step(model_, state_, ws_).finite) {
+            non_finite_ = true;
+            paused_ = true;
+            break;
+          }
+        }
+        const double spent = std::chrono::duration<double>(Clock::now() - t0).count();
+        if (done > 0) {
+          const double cost = spent / static_cast<double>(done);
+          step_cost_ = step_cost_ > 0.0 ? 0.8 * step_cost_ + 0.2 * cost : cost;
+        }
+        window_steps += static_cast<std::uint64_t>(done);
+        window_step_time += spent;
+      }
+      if (!non_finite_) gpu_.upload_state(scene_, model_, state_, show_springs_ || dragging_);
+      render();
+      gpu_.target.blit_to_window();
+      if (screenshot_request_) {
+        screenshot_request_ = false;
+        save_numbered_screenshot();
+      }
+      glfwSwapBuffers(window_);
+
+      const double wall = std::chrono::duration<double>(Clock::now() - window_start).count();
+      if (wall >= 0.5) {
+        const double sps = static_cast<double>(window_steps) / wall;
+        const double ms = window_steps ? 1e3 * window_step_time / static_cast<double>(window_steps) : 0.0;
+        update_title(sps, ms, (state_.t - window_sim_start) / wall);
+        window_start = Clock::now();
+        window_sim_start = state_.t;
+        window_steps = 0;
+        window_step_time = 0.0;
+      }
+    }
+    return 0;
+  }
+
+  void update_title(double steps_per_s, double ms_per_step, double realtime) {
+    char buf[512];
+    const char* status = non_finite_ ? " | NON-FINITE STATE: paused (R resets)"
+                         : paused_   ? " | paused"
+                         : clock_.behind() ? " | slower than real time"
+                                           : "";
+    std::snprintf(buf, sizeof buf,
+                  "clothsim %s | t %.2f s | %.0f steps/s | %.2f ms/step | %.2fx real time%s | "
+                  "Space pause  N step  R reset  W wire  S springs  P shot  Esc quit",
+                  model_.scene_name.c_str(), state_.t, steps_per_s, ms_per_step, realtime, status);
+    glfwSetWindowTitle(window_, buf);
+  }
+
+  void save_numbered_screenshot() {
+    for (int i = 0; i < 10000; ++i) {
+      char name[32];
+      std::snprintf(name, sizeof name, "clothsim_%04d.png", i);
+      if (std::filesystem::exists(name)) continue;
+      const std::string err =
+          view::write_png(name, gpu_.target.width, gpu_.target.height, gpu_.target.read_rgb());
+      if (err.empty()) std::printf("clothsim: wrote %s\n", name);
+      else std::fprintf(stderr, "clothsim: %s\n", err.c_str());
+      return;
+    }
+  }
+
+  void on_key(int key, int action) {
+    switch (key) {
+      case GLFW_KEY_ESCAPE:
+      case GLFW_KEY_Q: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
+      case GLFW_KEY_SPACE:
+        if (action == GLFW_PRESS && !non_finite_) paused_ = !paused_;
+        break;
+      case GLFW_KEY_N:
+      case GLFW_KEY_PERIOD:
+        if (!non_finite_) {
+          paused_ = true;
+          single_step_ = true;
+        }
+        break;
+      case GLFW_KEY_R:
+        state_ = make_state(model_);
+        dragging_ = false;
+        non_finite_ = false;
+        gpu_.upload_state(scene_, model_, state_, true);
+        break;
+      case GLFW_KEY_W:
+        if (action == GLFW_PRESS) wireframe_ = !wireframe_;
+        break;
+      case GLFW_KEY_S:
+        if (action == GLFW_PRESS) show_springs_ = !show_springs_;
+        break;
+      case GLFW_KEY_P:
+        if (action == GLFW_PRESS) screenshot_request_ = true;
+        break;
+      default: break;
+    }
+    update_title(0.0, 0.0, 0.0);
+  }
+
+  view::Ray cursor_ray() const {
+    int ww = 0, wh = 0;
+    glfwGetWindowSize(window_, &ww, &wh);
+    return camera_.ray(cursor_x_, cursor_y_, ww, wh);
+  }
+
+  void on_button(int button, int action, int mods) {
+    if (action == GLFW_RELEASE) {
+      mode_ = Mouse::None;
+      if (dragging_) {
+        dragging_ = false;
+        state_.drag = Drag{};
+      }
+      return;
+    }
+    if (button == GLFW_MOUSE_BUTTON_LEFT && (mods & GLFW_MOD_SHIFT)) mode_ = Mouse::Pan;
+    else if (button == GLFW_MOUSE_BUTTON_MIDDLE) mode_ = Mouse::Pan;
+    else if (button == GLFW_MOUSE_BUTTON_RIGHT) mode_ = Mouse::Orbit;
+    else if (button == GLFW_MOUSE_BUTTON_LEFT) {
+      const view::Ray ray = cursor_ray();
+      const view::Pick pick = view::pick_mass(scene_, model_, state_, ray, 0.02 * camera_.distance);
+      if (pick.mass >= 0 && !non_finite_) {
+        dragging_ = true;
+        mode_ = Mouse::Drag;
+        drag_depth_ = (ray.origin + pick.t * ray.dir - camera_.eye()).dot(camera_.forward());
+        state_.drag.mass = pick.mass;
+        state_.drag.k = model_.options.k_struct;  // as stiff as one cloth spring: stable at dt
+        update_drag_target();
+      } else {
+        mode_ = Mouse::Orbit;
+      }
+    }
+  }
+
+  void update_drag_target() {
+    if (!dragging_) return;
+    const view::Ray ray = cursor_ray();
+    const double along = ray.dir.dot(camera_.forward());
+    if (along <= 1e-6) return;
+    state_.drag.target = ray.origin + (drag_depth_ / along) * ray.dir;
+  }
+
+  void on_cursor(double x, double y) {
+    const double dx = x - cursor_x_, dy = y - cursor_y_;
+    cursor_x_ = x;
+    cursor_y_ = y;
+    int fh = 0;
+    glfwGetWindowSize(window_, nullptr, &fh);
+    switch (mode_) {
+      case Mouse::Orbit: camera_.orbit(dx, dy); break;
+      case Mouse::Pan: camera_.pan(dx, dy, fh); break;
+      case Mouse::Drag: update_drag_target(); break;
+      case Mouse::None: break;
+    }
+  }
+
+  void render() {
+    view::RenderFlags flags;
+    flags.wireframe = wireframe_;
+    flags.springs = show_springs_;
+    flags.flat_cloth = opt_.flat_cloth;
+    flags.hide_cloth = opt_.hide_cloth;
+    flags.drag_mass = dragging_ ? state_.drag.mass : -1;
+    flags.drag_target = state_.drag.target;
+    const double aspect = static_cast<double>(gpu_.target.width) / std::max(gpu_.target.height, 1);
+    gpu_.draw(scene_, model_, camera_.projection(aspect) * camera_.view(), camera_.eye(), flags);
+  }
+
+  enum class Mouse { None, Orbit, Pan, Drag };
+
+  const b2o::Scene& scene_;
+  const Model& model_;
+  ViewerOptions opt_;
+  State state_;
+  Workspace ws_;
+  view::StepClock clock_;
+  view::OrbitCamera camera_;
+  view::GlScene gpu_;
+  GLFWwindow* window_ = nullptr;
+  double step_cost_ = 0.0;
+  bool paused_ = false, single_step_ = false, non_finite_ = false;
+  bool wireframe_ = false, show_springs_ = false, screenshot_request_ = false;
+  bool dragging_ = false;
+  double drag_depth_ = 0.0;
+  Mouse mode_ = Mouse::None;
+  double cursor_x_ = 0.0, cursor_y_ = 0.0;
+};
+
+std::string check_options(const ViewerOptions& o) {
+  if (o.width < 16 || o.width > 16384 || o.height < 16 || o.height > 16384)
+    return "window size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+           " is outside 16..16384";
+  if (!o.frames_dir.empty() && (o.fps < 1 || o.fps > 1000))
+    return "--fps " + std::to_string(o.fps) + " is outside 1..1000";
+  if (!o.frames_dir.empty() && !(o.seconds >= 0.0))
+    return "--frames needs --seconds T (how much simulated time to record)";
+  if (!std::isfinite(o.seconds) || o.seconds > 1e6) return "--seconds must be a finite time";
+  if (!(o.max_work_per_frame > 0.0)) return "max_work_per_frame must be positive";
+  return {};
+}
+
+}  // namespace
+
+int run_viewer(const b2o::Scene& scene, const Model& model, const ViewerOptions& given) {
+  ViewerOptions options = given;
+  // The test modes can also be switched on from outside, so tests can run the real program.
+  if (const char* test = std::getenv("CLOTHSIM_VIEWER_TEST")) {
+    const std::string mode = test;
+    if (mode == "flat-cloth") options.flat_cloth = true;
+    else if (mode == "hide-cloth") options.hide_cloth = true;
+    else if (!mode.empty()) {
+      std::fprintf(stderr, "clothsim: CLOTHSIM_VIEWER_TEST='%s' is not flat-cloth or hide-cloth\n", test);
+      return 1;
+    }
+  }
+  if (std::string err = check_options(options); !err.empty()) {
+    std::fprintf(stderr, "clothsim: %s\n", err.c_str());
+    return 1;
+  }
+  if (std::string err = view::check_model_matches_scene(scene, model); !err.empty()) {
+    std::fprintf(stderr, "clothsim: scene '%s': %s\n", scene.name ? scene.name : "?", err.c_str());
+    return 1;
+  }
+  const bool offscreen = !options.screenshot.empty() || !options.frames_dir.empty();
+  glfwSetErrorCallback(on_glfw_error);
+  if (!glfwInit()) {
+    std::fprintf(stderr, "clothsim: cannot start GLFW: %s%s\n", g_glfw_error.c_str(),
+                 no_display_hint().c_str());
+    return 1;
+  }
+  GlfwSession session;
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_VISIBLE, offscreen ? GLFW_FALSE : GLFW_TRUE);
+  session.window = glfwCreateWindow(offscreen ? 64 : options.width, offscreen ? 64 : options.height,
+                                    "clothsim", nullptr, nullptr);
+  if (!session.window) {
+    std::fprintf(stderr, "clothsim: cannot open an OpenGL 3.3 core window: %s%s\n",
+                 g_glfw_error.c_str(), no_display_hint().c_str());
+    return 1;
+  }
+  glfwMakeContextCurrent(session.window);
+  glewExperimental = GL_TRUE;  // core profiles need it for GLEW to load everything
+  if (const GLenum e = glewInit(); e != GLEW_OK) {
+    std::fprintf(stderr, "clothsim: cannot load OpenGL with GLEW: %s\n",
+                 reinterpret_cast<const char*>(glewGetErrorString(e)));
+    return 1;
+  }
+  while (glGetError() != GL_NO_ERROR) {}  // glewInit's harmless INVALID_ENUM on core profiles
+  glfwSwapInterval(options.vsync && !offscreen ? 1 : 0);
+  try {
+    Viewer viewer(scene, model, options);
+    return viewer.run(session.window);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "clothsim: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace clothsim

@@ -1,0 +1,40 @@
+// A small program around run_viewer() for the tests: the hand-filled scene through the real
+// scene adapter (build_model) and the real core, with the viewer's test modes on the command line.
+#include "hand_scene.hpp"
+
+#include <clothsim/scene.hpp>
+#include <clothsim/sim.hpp>
+#include <clothsim/viewer.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+  CLI::App app{"viewer_probe: the viewer on a hand-made scene (tests only)"};
+  clothsim::ViewerOptions vo;
+  bool no_vsync = false, pin = false;
+  app.add_option("--screenshot", vo.screenshot);
+  app.add_option("--frames", vo.frames_dir);
+  app.add_option("--fps", vo.fps);
+  app.add_option("--seconds", vo.seconds);
+  app.add_option("--width", vo.width);
+  app.add_option("--height", vo.height);
+  app.add_flag("--paused", vo.paused);
+  app.add_flag("--no-vsync", no_vsync);
+  app.add_flag("--flat-cloth", vo.flat_cloth);
+  app.add_flag("--hide-cloth", vo.hide_cloth);
+  app.add_flag("--pin", pin, "pin one corner");
+  app.footer(clothsim::viewer_help_text());
+  CLI11_PARSE(app, argc, argv);
+  vo.vsync = !no_vsync;
+  try {
+    clothsim::testing::HandScene hand(12, 1.6f, 1.2f, pin);
+    const clothsim::Model model = clothsim::build_model(hand.scene, clothsim::scene_options(hand.scene));
+    return clothsim::run_viewer(hand.scene, model, vo);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "viewer_probe: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,244 @@
+// Screenshots by the real viewer under Xvfb: the probe (a hand-made scene through the real
+// scene adapter, core and viewer) and, when built, the clothsim programs of the baked scenes.
+// Run as: xvfb-run -a viewer_screenshot_test --probe=PATH [--program=NAME=PATH ...] --out=DIR
+#include <gtest/gtest.h>
+
+#include <stb/stb_image.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string g_probe;
+std::vector<std::pair<std::string, std::string>> g_programs;  // name, path
+fs::path g_out = "viewer_shots";
+
+struct Result {
+  int code = -1;
+  std::string output;  // stdout + stderr
+};
+
+Result run(const std::string& command) {
+  Result r;
+  FILE* p = popen((command + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  std::array<char, 512> buf{};
+  while (fgets(buf.data(), buf.size(), p)) r.output += buf.data();
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+struct Image {
+  int w = 0, h = 0;
+  std::vector<unsigned char> rgb;
+  bool ok() const { return w > 0; }
+  const unsigned char* at(int x, int y) const { return &rgb[3 * (static_cast<std::size_t>(y) * w + x)]; }
+};
+
+Image load(const fs::path& file) {
+  Image img;
+  int channels = 0;
+  unsigned char* data = stbi_load(file.c_str(), &img.w, &img.h, &channels, 3);
+  if (!data) return Image{};
+  img.rgb.assign(data, data + 3 * static_cast<std::size_t>(img.w) * img.h);
+  stbi_image_free(data);
+  return img;
+}
+
+// Pixels of the viewer's flat test colour (kFlatClothRgb = magenta), and their mean row.
+struct Flat {
+  long count = 0;
+  double mean_row = 0.0;
+};
+Flat flat_pixels(const Image& img) {
+  Flat f;
+  for (int y = 0; y < img.h; ++y)
+    for (int x = 0; x < img.w; ++x) {
+      const unsigned char* p = img.at(x, y);
+      if (p[0] > 240 && p[1] < 15 && p[2] > 240) {
+        ++f.count;
+        f.mean_row += y;
+      }
+    }
+  if (f.count) f.mean_row /= static_cast<double>(f.count);
+  return f;
+}
+
+double fraction_different(const Image& a, const Image& b) {
+  if (a.w != b.w || a.h != b.h) return 1.0;
+  long diff = 0;
+  for (std::size_t i = 0; i < a.rgb.size(); i += 3)
+    if (std::abs(a.rgb[i] - b.rgb[i]) + std::abs(a.rgb[i + 1] - b.rgb[i + 1]) + std::abs(a.rgb[i + 2] - b.rgb[i + 2]) > 24)
+      ++diff;
+  return static_cast<double>(diff) / static_cast<double>(a.w * a.h);
+}
+
+// Distinct colours in the picture: a blank or single-colour frame has very few.
+std::size_t colour_count(const Image& img) {
+  std::vector<bool> seen(1u << 15, false);
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < img.rgb.size(); i += 3) {
+    const unsigned key = (img.rgb[i] >> 3) << 10 | (img.rgb[i + 1] >> 3) << 5 | (img.rgb[i + 2] >> 3);
+    if (!seen[key]) {
+      seen[key] = true;
+      ++n;
+    }
+  }
+  return n;
+}
+
+fs::path out(const std::string& name) {
+  fs::create_directories(g_out);
+  const fs::path p = g_out / name;
+  fs::remove_all(p);
+  return p;
+}
+
+// Quoted for the shell. (Built with append: GCC 12's -Wrestrict misfires on "'" + s + "'".)
+std::string q(const fs::path& p) {
+  std::string s(1, '\'');
+  s.append(p.string()).push_back('\'');
+  return s;
+}
+
+}  // namespace
+
+TEST(ViewerProbe, ClothIsVisibleAndFallsBetweenTwoScreenshots) {
+  const fs::path a = out("probe_t0.png"), b = out("probe_t1.png");
+  const std::string base = q(g_probe) + " --width 480 --height 270 --flat-cloth --screenshot ";
+  const Result r0 = run(base + q(a) + " --seconds 0");
+  ASSERT_EQ(r0.code, 0) << r0.output;
+  const Result r1 = run(base + q(b) + " --seconds 0.4");
+  ASSERT_EQ(r1.code, 0) << r1.output;
+  const Image i0 = load(a), i1 = load(b);
+  ASSERT_TRUE(i0.ok() && i1.ok());
+  EXPECT_EQ(i0.w, 480);
+  EXPECT_EQ(i0.h, 270);
+  const Flat f0 = flat_pixels(i0), f1 = flat_pixels(i1);
+  const double total = 480.0 * 270.0;
+  EXPECT_GT(f0.count, 0.02 * total) << "the cloth is not in the picture at t = 0";
+  EXPECT_GT(f1.count, 0.02 * total) << "the cloth is not in the picture at t = 0.4";
+  EXPECT_GT(f1.mean_row, f0.mean_row + 5.0) << "the cloth did not move down the picture";
+  EXPECT_GT(fraction_different(i0, i1), 0.01);
+}
+
+TEST(ViewerProbe, LitPictureHasShadingAndHideClothRemovesTheCloth) {
+  const fs::path lit = out("probe_lit.png"), hidden = out("probe_hidden.png");
+  const std::string base = q(g_probe) + " --width 320 --height 180 --seconds 0.5 ";
+  ASSERT_EQ(run(base + "--screenshot " + q(lit)).code, 0);
+  ASSERT_EQ(run(base + "--flat-cloth --hide-cloth --screenshot " + q(hidden)).code, 0);
+  const Image l = load(lit), h = load(hidden);
+  ASSERT_TRUE(l.ok() && h.ok());
+  EXPECT_GT(colour_count(l), 50u) << "a lit scene with a gradient background has many colours";
+  EXPECT_EQ(flat_pixels(h).count, 0) << "hidden cloth still drawn";
+  EXPECT_GT(fraction_different(l, h), 0.02) << "the cloth made no difference to the picture";
+}
+
+TEST(ViewerProbe, FramesWritesTheWholeSequence) {
+  const fs::path dir = out("probe_frames");
+  const Result r = run(q(g_probe) + " --width 160 --height 90 --flat-cloth --frames " + q(dir) +
+                    " --fps 10 --seconds 0.5");
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (int i = 0; i <= 5; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%05d.png", i);
+    const Image img = load(dir / name);
+    ASSERT_TRUE(img.ok()) << name;
+    EXPECT_EQ(img.w, 160);
+    EXPECT_GT(flat_pixels(img).count, 0) << name;
+  }
+  EXPECT_FALSE(fs::exists(dir / "frame_00006.png"));
+  EXPECT_GT(fraction_different(load(dir / "frame_00000.png"), load(dir / "frame_00005.png")), 0.01);
+}
+
+TEST(ViewerProbe, BadInputGivesOneLineErrorAndNoFile) {
+  const Result no_seconds = run(q(g_probe) + " --frames " + q(out("never")));
+  EXPECT_EQ(no_seconds.code, 1);
+  EXPECT_NE(no_seconds.output.find("--seconds"), std::string::npos) << no_seconds.output;
+  EXPECT_FALSE(fs::exists(g_out / "never"));
+
+  const fs::path bad = g_out / "no_such_dir" / "x.png";
+  const Result unwritable = run(q(g_probe) + " --width 64 --height 64 --screenshot " + q(bad));
+  EXPECT_EQ(unwritable.code, 1);
+  EXPECT_NE(unwritable.output.find("x.png"), std::string::npos) << unwritable.output;
+  EXPECT_FALSE(fs::exists(bad));
+  EXPECT_FALSE(fs::exists(bad.string() + ".part"));
+
+  const Result tiny = run(q(g_probe) + " --width 3 --screenshot " + q(out("tiny.png")));
+  EXPECT_EQ(tiny.code, 1);
+  EXPECT_NE(tiny.output.find("16..16384"), std::string::npos) << tiny.output;
+}
+
+TEST(ViewerProbe, NoDisplayIsAClearErrorNotACrash) {
+  const Result r = run("env -u DISPLAY -u WAYLAND_DISPLAY " + q(g_probe) + " --screenshot " + q(out("nodisplay.png")));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("xvfb-run"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(g_out / "nodisplay.png"));
+}
+
+// The real programs: screenshots at t = 0 and t = T with the cloth in the flat test colour
+// (CLOTHSIM_VIEWER_TEST=flat-cloth), and once as the user sees it.
+class RealProgram : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
+
+TEST_P(RealProgram, ScreenshotsShowTheClothMoving) {
+  const auto& [name, path] = GetParam();
+  const fs::path a = out(name + "_t0.png"), b = out(name + "_t2.png"), lit = out(name + "_lit.png");
+  const std::string flat = "env CLOTHSIM_VIEWER_TEST=flat-cloth " + q(path) + " --width 480 --height 270 --screenshot ";
+  const Result r0 = run(flat + q(a) + " --seconds 0");
+  ASSERT_EQ(r0.code, 0) << r0.output;
+  const Result r1 = run(flat + q(b) + " --seconds 2");
+  ASSERT_EQ(r1.code, 0) << r1.output;
+  const Result r2 = run(q(path) + " --width 480 --height 270 --seconds 2 --screenshot " + q(lit));
+  ASSERT_EQ(r2.code, 0) << r2.output;
+  const Image i0 = load(a), i1 = load(b), il = load(lit);
+  ASSERT_TRUE(i0.ok() && i1.ok() && il.ok());
+  const double total = 480.0 * 270.0;
+  EXPECT_GT(flat_pixels(i0).count, 0.005 * total) << name << ": no cloth at t = 0";
+  EXPECT_GT(flat_pixels(i1).count, 0.005 * total) << name << ": no cloth at t = 2";
+  EXPECT_GT(fraction_different(i0, i1), 0.005) << name << ": the pictures at t = 0 and 2 are the same";
+  EXPECT_EQ(flat_pixels(il).count, 0) << name << ": the test colour leaked into the normal view";
+  EXPECT_GT(colour_count(il), 50u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, RealProgram, ::testing::ValuesIn(g_programs),
+                         [](const auto& p) { return p.param.first; });
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(RealProgram);
+
+int main(int argc, char** argv) {
+  // Our arguments first: the parameterised suite reads g_programs when gtest initialises.
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.rfind("--gtest", 0) == 0) continue;
+    if (a.rfind("--probe=", 0) == 0) g_probe = a.substr(8);
+    else if (a.rfind("--out=", 0) == 0) g_out = a.substr(6);
+    else if (a.rfind("--program=", 0) == 0) {
+      const std::string v = a.substr(10);
+      const auto eq = v.find('=');
+      if (eq == std::string::npos) {
+        std::fprintf(stderr, "viewer_screenshot_test: --program wants NAME=PATH, got '%s'\n", v.c_str());
+        return 2;
+      }
+      g_programs.emplace_back(v.substr(0, eq), v.substr(eq + 1));
+    } else {
+      std::fprintf(stderr, "viewer_screenshot_test: unknown argument '%s'\n", a.c_str());
+      return 2;
+    }
+  }
+  if (g_probe.empty()) {
+    std::fprintf(stderr, "viewer_screenshot_test: --probe=PATH is required\n");
+    return 2;
+  }
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
