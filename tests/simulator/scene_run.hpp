@@ -1,0 +1,41 @@
+// Runs a baked scene headless for the scene tests.
+#pragma once
+
+#include <clothsim/scene.hpp>
+#include <clothsim/step.hpp>
+
+#include <blender2ogl/scene_types.h>
+
+#include <Eigen/Geometry>
+
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace clothsim::test {
+
+/// The scene's object named `name` as (3 x V) vertices, or throws.
+inline const b2o::Object& find_object(const b2o::Scene& s, const char* name) {
+  for (std::uint32_t o = 0; o < s.object_count; ++o)
+    if (std::strcmp(s.objects[o].name, name) == 0) return s.objects[o];
+  throw std::runtime_error(std::string("scene has no object ") + name);
+}
+
+inline Eigen::Vector3d vertex(const b2o::Scene& s, std::uint32_t v) {
+  return {s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]};
+}
+
+/// Smallest distance from `c` to the planes of the object's triangles (a closed convex
+/// collider's inscribed radius about c).
+inline double inscribed_radius(const b2o::Scene& s, const b2o::Object& o, const Eigen::Vector3d& c) {
+  double r = 1e300;
+  for (std::uint32_t i = 0; i < o.index_count; i += 3) {
+    const Eigen::Vector3d a = vertex(s, s.indices[o.first_index + i]), b = vertex(s, s.indices[o.first_index + i + 1]),
+                          d = vertex(s, s.indices[o.first_index + i + 2]);
+    const Eigen::Vector3d n = (b - a).cross(d - a).normalized();
+    r = std::min(r, std::abs(n.dot(c - a)));
+  }
+  return r;
+}
+
+}  // namespace clothsim::test
