@@ -222,13 +222,15 @@ void implicit_euler(const Model& m, State& s, Workspace& ws, IntegratorScratch& 
 // --- fast mass-spring (Liu, Bargteil, O'Brien, Kavan 2013) -------------------------------
 
 void fms_precompute(const Model& m, IntegratorScratch& sc, double h) {
-  // (M + h^2 L) over the free masses, L = sum_s k_s (e_a - e_b)(e_a - e_b)^T.
+  // (M + h gamma + h^2 L) over the free masses, L = sum_s k_s (e_a - e_b)(e_a - e_b)^T.
+  // Damping is implicit too: explicit damping is unstable for light masses (h gamma / m > 2).
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(m.mass_count() + 4 * m.spring_count());
   for (std::size_t i = 0; i < m.mass_count(); ++i)
-    if (sc.compact[i] >= 0) t.emplace_back(sc.compact[i], sc.compact[i], m.mass[static_cast<Eigen::Index>(i)]);
+    if (sc.compact[i] >= 0)
+      t.emplace_back(sc.compact[i], sc.compact[i], m.mass[static_cast<Eigen::Index>(i)] + h * m.options.damping);
   const double h2 = h * h;
-  double ksum = 0.0;
+  double ksum = m.options.damping;  // the key: damping is in the matrix too
   for (std::size_t k = 0; k < m.spring_count(); ++k) {
     const double w = h2 * m.stiffness[static_cast<Eigen::Index>(k)];
     ksum += m.stiffness[static_cast<Eigen::Index>(k)];
@@ -249,14 +251,15 @@ void fms_precompute(const Model& m, IntegratorScratch& sc, double h) {
 }
 
 void fast_mass_spring(const Model& m, State& s, Workspace& ws, IntegratorScratch& sc, double h) {
-  double ksum = 0.0;
+  double ksum = m.options.damping;
   for (Eigen::Index k = 0; k < m.stiffness.size(); ++k) ksum += m.stiffness[k];
   if (sc.llt_h != h || sc.llt_ksum != ksum) fms_precompute(m, sc, h);
-  // External forces = everything but the springs (gravity, damping, contact, drag), explicit.
+  // External forces = everything but the springs and the damping (gravity, contact, drag),
+  // explicit. The force stage's damping is -gamma v (step.hpp), added back here.
   compute_forces(m, s.x, s.v, ws.f, ws);
   sc.f2.setZero();
   add_spring_forces(m, s.x, sc.f2);
-  sc.fext = ws.f - sc.f2;
+  sc.fext = ws.f - sc.f2 + m.options.damping * s.v;
   sc.y.noalias() = s.x + h * s.v + (h * h) * accel(m, sc.fext);
   sc.xs = sc.y;
   for (std::size_t i = 0; i < m.mass_count(); ++i)
@@ -269,10 +272,12 @@ void fast_mass_spring(const Model& m, State& s, Workspace& ws, IntegratorScratch
       const double len = e.norm();
       if (len > 0.0) sc.d.col(static_cast<Eigen::Index>(k)) = e * (m.rest_length0[static_cast<Eigen::Index>(k)] / len);
     }
-    // global: (M + h^2 L) x = M y + h^2 J d, pinned ends moved to the right side
+    // global: (M + h gamma + h^2 L) x = M y + h gamma x_n + h^2 J d, pinned ends on the right
     for (std::size_t i = 0; i < m.mass_count(); ++i)
-      if (sc.compact[i] >= 0)
-        sc.b.row(sc.compact[i]) = m.mass[static_cast<Eigen::Index>(i)] * sc.y.col(static_cast<Eigen::Index>(i)).transpose();
+      if (sc.compact[i] >= 0) {
+        const auto c = static_cast<Eigen::Index>(i);
+        sc.b.row(sc.compact[i]) = (m.mass[c] * sc.y.col(c) + h * m.options.damping * s.x.col(c)).transpose();
+      }
     for (std::size_t k = 0; k < m.spring_count(); ++k) {
       const double w = h2 * m.stiffness[static_cast<Eigen::Index>(k)];
       const Eigen::Vector3d jd = w * sc.d.col(static_cast<Eigen::Index>(k));

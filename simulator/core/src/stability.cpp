@@ -170,8 +170,8 @@ double stable_dt(Integrator method, double omega, double zeta) {
         x1 = x + h * v1;
         break;
       }
-      case Integrator::FastMassSpring: {  // springs implicit, damping explicit
-        x1 = (x + h * v - 2.0 * zeta * h * h * v) / (1.0 + h * h * w2);
+      case Integrator::FastMassSpring: {  // springs and damping implicit, by local/global
+        x1 = (x * (1.0 + 2.0 * zeta * h) + h * v) / (1.0 + 2.0 * zeta * h + h * h * w2);
         v1 = (x1 - x) / h;
         break;
       }
