@@ -1,0 +1,163 @@
+// bake: weld by exact position, springs (structural then bend), triangles, pins, warnings.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "support.hpp"
+
+namespace {
+
+using namespace b2o::test;
+namespace conv = b2o::conv;
+
+conv::Options opts(const std::string& file, std::vector<std::string> cloths) {
+  conv::Options o;
+  o.input = fixture(file);
+  o.cloth_objects = std::move(cloths);
+  o.reverse_map = true;
+  return o;
+}
+
+void check_cloth_invariants(const conv::Scene& s, const conv::Cloth& c) {
+  const auto& obj = s.objects[c.object];
+  const std::uint32_t m = c.mass_count();
+  ASSERT_EQ(c.mass_vertex_offsets.size(), m + 1u);
+  EXPECT_EQ(c.mass_vertex_offsets.back(), c.mass_vertices.size());
+  for (std::uint32_t k = 0; k < m; ++k)
+    for (std::uint32_t j = c.mass_vertex_offsets[k]; j < c.mass_vertex_offsets[k + 1]; ++j) {
+      const std::uint32_t v = c.mass_vertices[j];
+      ASSERT_GE(v, obj.first_vertex);
+      ASSERT_LT(v, obj.first_vertex + obj.vertex_count);
+      for (int a = 0; a < 3; ++a) EXPECT_EQ(s.positions[3 * v + a], c.rest_positions[3 * k + a]);  // exact weld
+      if (!c.vertex_mass.empty()) {
+        EXPECT_EQ(c.vertex_mass[v - obj.first_vertex], k);
+      }
+    }
+  // distinct positions per mass
+  std::set<std::array<float, 3>> distinct;
+  for (std::uint32_t k = 0; k < m; ++k)
+    distinct.insert({c.rest_positions[3 * k], c.rest_positions[3 * k + 1], c.rest_positions[3 * k + 2]});
+  EXPECT_EQ(distinct.size(), m);
+  std::set<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (std::size_t i = 0; i < c.springs.size(); ++i) {
+    const auto& sp = c.springs[i];
+    EXPECT_LT(sp.a, sp.b);
+    EXPECT_LT(sp.b, m);
+    EXPECT_EQ(sp.kind, i < c.structural_count ? 0u : 1u);
+    EXPECT_TRUE(pairs.insert({sp.a, sp.b}).second) << "spring joined twice";
+    const float* pa = &c.rest_positions[3 * sp.a];
+    const float* pb = &c.rest_positions[3 * sp.b];
+    const double d = std::sqrt(std::pow(double(pa[0]) - pb[0], 2) + std::pow(double(pa[1]) - pb[1], 2) +
+                               std::pow(double(pa[2]) - pb[2], 2));
+    EXPECT_EQ(sp.rest_length, static_cast<float>(d));
+    if (i > 0 && (i < c.structural_count) == (i - 1 < c.structural_count)) {  // sorted within a kind
+      const auto& prev = c.springs[i - 1];
+      EXPECT_TRUE(prev.a < sp.a || (prev.a == sp.a && prev.b < sp.b));
+    }
+  }
+  for (std::uint32_t t : c.triangles) EXPECT_LT(t, m);
+  EXPECT_TRUE(std::is_sorted(c.pins.begin(), c.pins.end()));
+  EXPECT_EQ(std::adjacent_find(c.pins.begin(), c.pins.end()), c.pins.end());
+}
+
+TEST(Bake, GridSpringsAndPinsFromTheModel) {
+  const auto s = convert(opts("grid.obj", {"Cloth"}));
+  ASSERT_EQ(s.cloths.size(), 1u);
+  const auto& c = s.cloths[0];
+  EXPECT_EQ(s.objects[0].cloth, 0);
+  EXPECT_EQ(s.objects[1].cloth, -1);
+  EXPECT_EQ(c.mass_count(), 9u);
+  // 3x3 grid of 4 quads split into 8 triangles: 12 grid edges + 4 diagonals
+  EXPECT_EQ(c.structural_count, 16u);
+  EXPECT_EQ(c.springs.size() - c.structural_count, 8u);  // one across each interior edge
+  EXPECT_EQ(c.triangles.size(), 24u);
+  // the two corners at z = -0.5 (x = -0.5 and 0.5) are pinned by Cloth_pins
+  ASSERT_EQ(c.pins.size(), 2u);
+  for (std::uint32_t p : c.pins) {
+    EXPECT_EQ(c.rest_positions[3 * p + 2], -0.5f);
+    EXPECT_EQ(std::fabs(c.rest_positions[3 * p]), 0.5f);
+  }
+  check_cloth_invariants(s, c);
+}
+
+TEST(Bake, OldFileObjectFormAndCommandLinePins) {
+  auto o = opts("grid.obj", {"grid_Cloth"});
+  o.pins.push_back({"Cloth", {0.4f, 1.0f, 0.6f}});  // nearest: (0.5, 1, 0.5)
+  const auto s = convert(o);
+  ASSERT_EQ(s.cloths.size(), 1u);
+  const auto& c = s.cloths[0];
+  ASSERT_EQ(c.pins.size(), 3u);
+  bool found = false;
+  for (std::uint32_t p : c.pins)
+    found |= c.rest_positions[3 * p] == 0.5f && c.rest_positions[3 * p + 2] == 0.5f;
+  EXPECT_TRUE(found);
+}
+
+TEST(Bake, UnknownClothObjectIsAnInputError) {
+  try {
+    convert(opts("grid.obj", {"Nope"}));
+    FAIL() << "no error";
+  } catch (const conv::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("grid.obj"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("'Nope'"), std::string::npos);
+  }
+}
+
+TEST(Bake, PinOnObjectWithoutMassesIsAUsageError) {
+  auto o = opts("grid.obj", {"Cloth"});
+  o.pins.push_back({"Floor", {0, 0, 0}});
+  EXPECT_THROW(convert(o), conv::UsageError);
+}
+
+TEST(Bake, WeldSeamsDegenerateAndNonManifold) {
+  // A cube whose faces have their own UVs (assimp keeps 24 vertices; 8 masses), plus a
+  // degenerate triangle and a fin: an edge shared by three triangles.
+  const auto dir = scratch("bake_weld");
+  std::string obj = "o Box\n";
+  const float P[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  for (auto& p : P) obj += "v " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) + "\n";
+  obj += "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
+  for (const char* f : {"1 4 3 2", "5 6 7 8", "1 2 6 5", "2 3 7 6", "3 4 8 7", "4 1 5 8"}) {
+    int a, b, c, d;
+    std::sscanf(f, "%d %d %d %d", &a, &b, &c, &d);
+    obj += "f " + std::to_string(a) + "/1 " + std::to_string(b) + "/2 " + std::to_string(c) + "/3 " +
+           std::to_string(d) + "/4\n";
+  }
+  write_file(dir / "box.obj", obj);
+  auto s = convert(opts((dir / "box.obj").string(), {"Box"}));
+  const auto& c = s.cloths[0];
+  EXPECT_GT(s.objects[0].vertex_count, 8u);
+  EXPECT_EQ(c.mass_count(), 8u);
+  EXPECT_EQ(c.structural_count, 18u);  // 12 edges + 6 face diagonals
+  EXPECT_EQ(c.triangles.size(), 36u);
+  check_cloth_invariants(s, c);
+
+  write_file(dir / "fin.obj",
+             "o Fin\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 2 0 0\n"
+             "f 1 2 3\nf 2 1 4\nf 1 2 5\nf 1 2 6\n");  // edge 1-2 in four triangles; 1 2 6 is flat
+  conv::Stats stats;
+  auto f = conv::import_scene(dir / "fin.obj", false);
+  auto fo = opts((dir / "fin.obj").string(), {"Fin"});
+  conv::bake_scene(f, fo, stats);
+  EXPECT_EQ(stats.degenerate_triangles, 1u);
+  EXPECT_EQ(stats.nonmanifold_edges, 1u);
+  EXPECT_EQ(f.cloths[0].triangles.size(), 9u);
+  EXPECT_EQ(f.cloths[0].springs.size(), f.cloths[0].structural_count);  // no bend across the fin
+  EXPECT_GE(f.warnings.size(), 2u);
+  check_cloth_invariants(f, f.cloths[0]);
+}
+
+TEST(Bake, PinHelperTooFarIsAnError) {
+  const auto dir = scratch("bake_pin_far");
+  write_file(dir / "far.obj", "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no Cloth_pins\nv 5 5 5\n");
+  try {
+    convert(opts((dir / "far.obj").string(), {"Cloth"}));
+    FAIL() << "no error";
+  } catch (const conv::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("far.obj"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("Cloth_pins"), std::string::npos);
+  }
+}
+
+}  // namespace

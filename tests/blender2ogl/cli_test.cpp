@@ -1,0 +1,90 @@
+// The executable: exit codes, one clear message naming the file (and line), no files on error.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include "support.hpp"
+
+namespace {
+
+using namespace b2o::test;
+
+struct Bad {
+  const char* file;
+  const char* expect;  // part of the message after the file name (line included when known)
+};
+
+TEST(Cli, BadInputGivesOneLineExitOneNoFiles) {
+  const auto out = scratch("cli_bad");
+  const std::vector<Bad> cases = {
+      {"bad/empty.obj", ": no vertices"},
+      {"bad/garbage.obj", ":1: binary data"},
+      {"bad/truncated.obj", ":5: 'v' needs 3 coordinates"},
+      {"bad/nan.obj", ":2: non-finite number 'nan'"},
+      {"bad/inf.obj", ":3: non-finite number 'inf'"},
+      {"bad/out_of_range.obj", ":4: vertex index 4 out of range"},
+      {"bad/two_vertex_face.obj", ":4: 'f' needs at least 3 vertices"},
+      {"bad/no_such_file.obj", ": no such file"},
+      {"bad", ": is a directory"},
+  };
+  for (const Bad& c : cases) {
+    const std::string path = fixture(c.file).string();
+    const auto r = run_converter({"-t", (out / "x").string(), path});
+    EXPECT_EQ(r.exit_code, 1) << c.file << "\n" << r.output;
+    EXPECT_NE(r.output.find(path + c.expect), std::string::npos) << c.file << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(fs::exists(out / "x")) << c.file;
+  }
+}
+
+TEST(Cli, UnreadableFile) {
+  if (::geteuid() == 0) GTEST_SKIP() << "root reads every file";
+  const auto dir = scratch("cli_unreadable");
+  write_file(dir / "locked.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  ::chmod((dir / "locked.obj").c_str(), 0);
+  const auto r = run_converter({(dir / "locked.obj").string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find((dir / "locked.obj").string()), std::string::npos);
+}
+
+TEST(Cli, UsageErrorsExitTwo) {
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{},
+                                             {"--bogus", fixture("grid.obj").string()},
+                                             {"-t"},
+                                             {"a.obj", "b.obj"},
+                                             {"-p", "Cloth", fixture("grid.obj").string()},
+                                             {"-p", "Cloth:1,2", fixture("grid.obj").string()},
+                                             {"--param", "dt", fixture("grid.obj").string()},
+                                             {"--param", "dt=x", fixture("grid.obj").string()},
+                                             {"--param", "dt=1", "--param", "dt=2", fixture("grid.obj").string()}}) {
+    const auto r = run_converter(args);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("--help"), std::string::npos) << r.output;
+  }
+}
+
+TEST(Cli, HelpVersionAndStatistics) {
+  for (const char* h : {"-h", "-?", "--help"}) {
+    const auto r = run_converter({h});
+    EXPECT_EQ(r.exit_code, 0);
+    EXPECT_NE(r.output.find("--cloth"), std::string::npos);
+    EXPECT_NE(r.output.find("_pins"), std::string::npos);
+    EXPECT_NE(r.output.find(".fbx"), std::string::npos);
+  }
+  EXPECT_NE(run_converter({"--version"}).output.find(b2o::conv::kVersion), std::string::npos);
+  const auto out = scratch("cli_stats");
+  const auto r = run_converter({"-v", "-a", "Cloth", "-o", "-t", out.string(), fixture("grid.obj").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* k : {"objects    2", "vertices   13", "triangles  10", "masses     9",
+                        "springs    24 (16 structural, 8 bend)", "pins       2", "warnings   0", "time"})
+    EXPECT_NE(r.output.find(k), std::string::npos) << k << "\n" << r.output;
+  // default target: the input's folder; -n names the files
+  const auto in = scratch("cli_default_target");
+  fs::copy_file(fixture("plain.obj"), in / "plain.obj");
+  ASSERT_EQ(run_converter({"-n", "flat", (in / "plain.obj").string()}).exit_code, 0);
+  EXPECT_TRUE(fs::exists(in / "flat.h"));
+  EXPECT_TRUE(fs::exists(in / "flat.bin"));
+}
+
+}  // namespace

@@ -1,0 +1,143 @@
+// import: geometry, objects, materials and textures as assimp reads them.
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "support.hpp"
+
+namespace {
+
+using namespace b2o::test;
+using b2o::conv::import_scene;
+
+TEST(Import, GridObjectsMaterialsAndTexture) {
+  const auto s = import_scene(fixture("grid.obj"), false);
+  ASSERT_EQ(s.objects.size(), 2u);  // Cloth_pins is a helper, not an object
+  EXPECT_EQ(s.objects[0].name, "Cloth");
+  EXPECT_EQ(s.objects[1].name, "Floor");
+  EXPECT_EQ(s.objects[0].vertex_count, 9u);   // welded per (position, uv, normal)
+  EXPECT_EQ(s.objects[0].index_count, 24u);   // 4 quads -> 8 triangles
+  EXPECT_EQ(s.objects[1].index_count, 6u);
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials[0].name, "Checker");
+  EXPECT_EQ(s.materials[0].shininess, 250.0f);
+  EXPECT_EQ(s.materials[0].diffuse[1], 0.7f);
+  EXPECT_EQ(s.materials[1].opacity, 0.5f);
+  EXPECT_EQ(s.materials[1].diffuse_texture, -1);
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.materials[0].diffuse_texture, 0);
+  EXPECT_EQ(s.textures[0].name, "checker.png");
+  const std::string png = read_file(fixture("checker.png"));
+  EXPECT_EQ(std::string(s.textures[0].bytes.begin(), s.textures[0].bytes.end()), png);
+  ASSERT_EQ(s.submeshes.size(), 2u);
+  EXPECT_EQ(s.submeshes[1].material, 1);
+  // the pin helper's loose vertices were read from the text
+  ASSERT_EQ(s.pin_points.count("Cloth_pins"), 1u);
+  EXPECT_EQ(s.pin_points.at("Cloth_pins").size(), 6u);
+  for (std::uint32_t i : s.indices) EXPECT_LT(i, s.positions.size() / 3);
+}
+
+TEST(Import, NgonsNegativeIndicesGroupsAndCrlf) {
+  const auto s = import_scene(fixture("ngons_crlf.obj"), false);
+  ASSERT_EQ(s.objects.size(), 3u);
+  EXPECT_EQ(s.objects[0].name, "Penta Gon");  // no '\r' left from CRLF
+  EXPECT_EQ(s.objects[1].name, "class");
+  EXPECT_EQ(s.objects[2].name, "Penta-Gon");
+  EXPECT_EQ(s.objects[0].index_count, 9u);  // pentagon (negative indices) -> 3 triangles
+  EXPECT_EQ(s.objects[1].index_count, 6u);
+  EXPECT_EQ(s.objects[2].index_count, 3u);
+  for (const auto& o : s.objects) EXPECT_EQ(o.name.find('\r'), std::string::npos);
+  // no vt: zeros; no vn: generated unit normals (the faces lie in z = const planes)
+  for (float t : s.texcoords) EXPECT_EQ(t, 0.0f);
+  for (std::size_t v = 0; v < s.normals.size() / 3; ++v) {
+    EXPECT_FLOAT_EQ(std::fabs(s.normals[3 * v + 2]), 1.0f) << "vertex " << v;
+  }
+}
+
+TEST(Import, NoObjectLinesNamedAfterFileAndMissingMtlWarns) {
+  const auto s = import_scene(fixture("plain.obj"), false);
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0].name, "plain");
+  ASSERT_EQ(s.materials.size(), 1u);  // assimp's default material
+  bool warned = false;
+  for (const auto& w : s.warnings) warned |= w.find("missing.mtl") != std::string::npos;
+  EXPECT_TRUE(warned);
+}
+
+TEST(Import, MissingTextureWarnsAndGivesNoTexture) {
+  const auto s = import_scene(fixture("missing_tex.obj"), false);
+  ASSERT_EQ(s.materials.size(), 1u);
+  EXPECT_EQ(s.materials[0].diffuse_texture, -1);
+  EXPECT_TRUE(s.textures.empty());
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("no_such_image.png"), std::string::npos);
+}
+
+TEST(Import, MergeMakesOneObject) {
+  const auto s = import_scene(fixture("ngons_crlf.obj"), true);
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0].index_count, 18u);
+  EXPECT_EQ(s.objects[0].submesh_count, static_cast<std::uint32_t>(s.submeshes.size()));
+}
+
+// Floats are carried bit for bit from what assimp reads.
+TEST(Import, PositionsBitExactToAssimp) {
+  for (const char* name : {"grid.obj", "ngons_crlf.obj", "odd_names.obj"}) {
+    const auto s = import_scene(fixture(name), false);
+    Assimp::Importer imp;
+    imp.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    const aiScene* ai = imp.ReadFile(fixture(name).string(), b2o::conv::import_flags());
+    ASSERT_NE(ai, nullptr);
+    std::vector<float> pos, nrm, uv;
+    std::vector<const aiNode*> stack{ai->mRootNode};
+    std::function<void(const aiNode*)> walk = [&](const aiNode* n) {
+      if (std::string(n->mName.C_Str()).find("_pins") == std::string::npos)
+        for (unsigned k = 0; k < n->mNumMeshes; ++k) {
+          const aiMesh* m = ai->mMeshes[n->mMeshes[k]];
+          for (unsigned v = 0; v < m->mNumVertices; ++v) {
+            pos.insert(pos.end(), {m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z});
+            nrm.insert(nrm.end(), {m->mNormals[v].x, m->mNormals[v].y, m->mNormals[v].z});
+            const bool has_uv = m->HasTextureCoords(0);
+            uv.insert(uv.end(), {has_uv ? m->mTextureCoords[0][v].x : 0.0f, has_uv ? m->mTextureCoords[0][v].y : 0.0f});
+          }
+        }
+      for (unsigned i = 0; i < n->mNumChildren; ++i) walk(n->mChildren[i]);
+    };
+    walk(ai->mRootNode);
+    ASSERT_EQ(pos.size(), s.positions.size()) << name;
+    EXPECT_EQ(std::memcmp(pos.data(), s.positions.data(), pos.size() * 4), 0) << name;
+    EXPECT_EQ(std::memcmp(nrm.data(), s.normals.data(), nrm.size() * 4), 0) << name;
+    EXPECT_EQ(std::memcmp(uv.data(), s.texcoords.data(), uv.size() * 4), 0) << name;
+  }
+}
+
+TEST(Identifiers, OddNamesGiveValidDistinctStableIdentifiers) {
+  auto s = import_scene(fixture("odd_names.obj"), false);
+  b2o::conv::assign_identifiers(s);
+  ASSERT_EQ(s.objects.size(), 6u);
+  EXPECT_EQ(s.objects[0].name, "Tischdecke_\xC3\xBC\xC3\xA9");  // kept as written (UTF-8)
+  EXPECT_EQ(s.objects[1].name, "say\"hi\"\\there?");
+  std::set<std::string> seen;
+  for (const auto& o : s.objects) {
+    const std::string& id = o.identifier;
+    ASSERT_FALSE(id.empty());
+    EXPECT_FALSE(id[0] >= '0' && id[0] <= '9') << id;
+    EXPECT_NE(id[0], '_') << id;
+    EXPECT_EQ(id.find("__"), std::string::npos) << id;
+    for (char c : id) EXPECT_TRUE(std::isalnum(static_cast<unsigned char>(c)) || c == '_') << id;
+    EXPECT_TRUE(seen.insert(id).second) << "duplicate " << id;
+  }
+  EXPECT_EQ(s.objects[2].identifier, "o3D_Cube");
+  EXPECT_EQ(s.objects[3].identifier, "int_");
+  EXPECT_EQ(s.objects[4].identifier, "My_Object");
+  EXPECT_EQ(s.objects[5].identifier, "My_Object_2");  // collision once cleaned: file order decides
+  EXPECT_EQ(b2o::conv::clean_identifier("class"), "class_");
+  EXPECT_EQ(b2o::conv::clean_identifier("__x__y"), "x_y");
+  EXPECT_EQ(b2o::conv::clean_identifier("\xC3\xBC"), "unnamed");
+}
+
+}  // namespace
