@@ -184,7 +184,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   std::ostringstream foot;
   auto row = [&foot](const char* name, double d, double s) {
     foot << "  " << name << std::string(12 - std::string(name).size(), ' ') << fmt(d)
-         << std::string(d == s ? 0 : 1, ' ') << (d == s ? "" : "(scene '' : " + fmt(s) + ")") << "\n";
+         << std::string(d == s ? 0 : 1, ' ') << (d == s ? "" : "(scene '': " + fmt(s) + ")") << "\n";
   };
   foot << "Physical options: built-in default, and where this scene bakes another value, the scene's:\n";
   row("--dt", defaults.dt, scene_opts.dt);
@@ -196,7 +196,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   row("--epsilon", defaults.epsilon, scene_opts.epsilon);
   row("--k-rep", defaults.k_rep, scene_opts.k_rep);
   foot << "The command line overrides the scene. Exit codes: 0 ok, 1 the run failed "
-          "(non-finite state, I/O), 2 bad input.";
+          "(non-finite state, I/O), 2 bad input.\n";
   std::string footer = foot.str();
   for (std::size_t p; (p = footer.find("scene ''")) != std::string::npos;)
     footer.replace(p, 8, std::string("scene '") + scene.name + "'");

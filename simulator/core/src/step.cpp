@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <sstream>
+#include <string>
 
 #ifdef CLOTHSIM_HAVE_COLLISION
 #include <clothsim/collision.hpp>
@@ -161,15 +163,24 @@ std::uint64_t state_hash(const State& state) {
 }
 
 std::string validate_options(const Options& o) {
-  auto bad = [](double v) { return !std::isfinite(v); };
-  if (bad(o.dt) || o.dt <= 0.0) return "dt must be a finite number > 0 (got " + std::to_string(o.dt) + ")";
-  if (bad(o.mass) || o.mass <= 0.0) return "mass must be a finite number > 0 (got " + std::to_string(o.mass) + ")";
-  if (bad(o.k_struct) || o.k_struct < 0.0) return "k_struct must be a finite number >= 0";
-  if (bad(o.k_bend) || o.k_bend < 0.0) return "k_bend must be a finite number >= 0";
-  if (bad(o.damping) || o.damping < 0.0) return "damping must be a finite number >= 0";
+  auto num = [](double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  };
+  auto positive = [&](const char* name, double v) -> std::string {
+    if (std::isfinite(v) && v > 0.0) return {};
+    return std::string(name) + " must be a finite number > 0 (got " + num(v) + ")";
+  };
+  auto non_negative = [&](const char* name, double v) -> std::string {
+    if (std::isfinite(v) && v >= 0.0) return {};
+    return std::string(name) + " must be a finite number >= 0 (got " + num(v) + ")";
+  };
+  for (const std::string& why : {positive("dt", o.dt), positive("mass", o.mass), non_negative("k_struct", o.k_struct),
+                                 non_negative("k_bend", o.k_bend), non_negative("damping", o.damping),
+                                 positive("epsilon", o.epsilon), non_negative("k_rep", o.k_rep)})
+    if (!why.empty()) return why;
   if (!o.gravity.allFinite()) return "gravity must be finite";
-  if (bad(o.epsilon) || o.epsilon <= 0.0) return "epsilon must be a finite number > 0";
-  if (bad(o.k_rep) || o.k_rep < 0.0) return "k_rep must be a finite number >= 0";
   return {};
 }
 

@@ -1,0 +1,151 @@
+// The clothsim command line: help, bad values (exit 2, nothing written), the JSON report,
+// OBJ export, the seed's aliases and a forced blow-up (finite: false, exit 1).
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code = -1;
+  std::string output;  // stdout + stderr
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string("'") + CLOTHSIM_DICE_EXE + "' " + args + " 2>&1";
+  Result r;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), static_cast<int>(buf.size()), p)) r.output += buf.data();
+  const int status = ::pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::path(::testing::TempDir()) / ("clothsim_cli_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+TEST(Cli, HelpExitsZeroAndListsDefaultsAndTheSceneValues) {
+  const Result r = run("--help");
+  EXPECT_EQ(r.code, 0) << r.output;
+  for (const char* s : {"--headless", "--seconds", "--steps", "--dt", "--k-struct", "--k-rep", "--report",
+                        "--export-obj", "--screenshot", "-step", "-wstiff", "1000", "9.81"})
+    EXPECT_NE(r.output.find(s), std::string::npos) << "help lacks " << s;
+}
+
+TEST(Cli, VersionExitsZero) {
+  const Result r = run("--version");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.output.find("clothsim"), std::string::npos);
+}
+
+TEST(Cli, BadValuesExitTwoWithAMessageAndWriteNothing) {
+  const fs::path d = fresh_dir("bad");
+  const std::string report = (d / "r.json").string();
+  struct Case {
+    const char* args;
+    const char* says;
+  } cases[] = {{"--dt 0", "dt"},           {"--dt -0.01", "dt"},     {"--dt nan", "dt"},
+               {"--mass 0", "mass"},        {"--k-struct -5", "k_struct"}, {"--damping inf", "damping"},
+               {"--dt abc", "--dt"},        {"--bogus", "bogus"},     {"--seconds 1 --steps 5", "steps"},
+               {"--seconds -2", "seconds"}, {"-step 0", "dt"}};
+  for (const Case& c : cases) {
+    const Result r = run(std::string("--headless --report '") + report + "' " + c.args);
+    EXPECT_EQ(r.code, 2) << c.args << ": " << r.output;
+    EXPECT_NE(r.output.find(c.says), std::string::npos) << c.args << ": " << r.output;
+    EXPECT_NE(r.output.find("error"), std::string::npos) << c.args;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "one line: " << r.output;
+    EXPECT_FALSE(fs::exists(report)) << c.args;
+  }
+  EXPECT_TRUE(fs::is_empty(d));
+}
+
+TEST(Cli, ReportHasTheKeys) {
+  const fs::path d = fresh_dir("report");
+  const Result r = run("--headless --quiet --steps 50 --report '" + (d / "r.json").string() + "'");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto j = read_json(d / "r.json");
+  for (const char* k : {"scene", "masses", "springs", "collider_triangles", "dt", "steps", "seconds_simulated",
+                        "ms_per_step", "finite", "cloth_min", "cloth_max", "max_penetration", "kinetic_energy",
+                        "options"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  EXPECT_EQ(j["scene"], "dice");
+  EXPECT_EQ(j["masses"], 16);
+  EXPECT_EQ(j["collider_triangles"], 2);
+  EXPECT_EQ(j["steps"], 50);
+  EXPECT_EQ(j["finite"], true);
+  EXPECT_NEAR(j["seconds_simulated"].get<double>(), 50 * j["dt"].get<double>(), 1e-9);
+  for (int c = 0; c < 3; ++c) EXPECT_LE(j["cloth_min"][c].get<double>(), j["cloth_max"][c].get<double>());
+  EXPECT_GE(j["max_penetration"].get<double>(), 0.0);
+  EXPECT_GT(j["kinetic_energy"].get<double>(), 0.0);  // the dice are falling at t = 0.5 s
+  EXPECT_GE(j["ms_per_step"].get<double>(), 0.0);
+  // nothing but the report in the folder (the temp file was renamed)
+  EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator{}), 1);
+}
+
+TEST(Cli, SeedAliasesAndPhysicalOptionsReachTheReport) {
+  const fs::path d = fresh_dir("alias");
+  const Result r = run("--headless --quiet --steps 10 -step 0.005 -mass 0.2 -stiff 300 -wstiff 40 -damp 0.3 "
+                       "--k-rep 800 --gravity 1 --report '" + (d / "r.json").string() + "'");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto o = read_json(d / "r.json")["options"];
+  EXPECT_DOUBLE_EQ(o["dt"].get<double>(), 0.005);
+  EXPECT_DOUBLE_EQ(o["mass"].get<double>(), 0.2);
+  EXPECT_DOUBLE_EQ(o["k_struct"].get<double>(), 300);
+  EXPECT_DOUBLE_EQ(o["k_bend"].get<double>(), 40);
+  EXPECT_DOUBLE_EQ(o["damping"].get<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(o["k_rep"].get<double>(), 800);
+  EXPECT_DOUBLE_EQ(o["gravity"][1].get<double>(), -1.0);
+}
+
+TEST(Cli, ExportObjWritesEveryKSteps) {
+  const fs::path d = fresh_dir("obj");
+  const Result r = run("--headless --quiet --steps 20 --export-every 5 --export-obj '" + (d / "frames").string() + "'");
+  ASSERT_EQ(r.code, 0) << r.output;
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(d / "frames")) {
+    ++files;
+    std::ifstream in(e.path());
+    std::string text, line;
+    while (std::getline(in, line)) text += line + "\n";
+    EXPECT_NE(text.find("o RollingDie"), std::string::npos);
+    EXPECT_NE(text.find("o Die"), std::string::npos);
+    EXPECT_GE(std::count(text.begin(), text.end(), '\n'), 16 + 24);  // 16 vertices + 24 triangles
+  }
+  EXPECT_EQ(files, 5);  // steps 0, 5, 10, 15, 20
+  EXPECT_TRUE(fs::exists(d / "frames" / "dice_000020.obj"));
+}
+
+TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {
+  const fs::path d = fresh_dir("blowup");
+  const Result r = run("--headless --quiet --dt 0.5 --seconds 1000 --report '" + (d / "r.json").string() + "'");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("non-finite at step"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("stability"), std::string::npos) << r.output;
+  const auto j = read_json(d / "r.json");
+  EXPECT_EQ(j["finite"], false);
+  EXPECT_LT(j["steps"].get<int>(), 2000);  // stopped at once, not after 1000 s
+  EXPECT_GT(j["stable_dt_estimate"].get<double>(), 0.0);
+}
+
+}  // namespace
