@@ -6,6 +6,7 @@
 // as a simulation step does.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <random>
@@ -31,21 +32,34 @@ const clothsim::ColliderSet& sphere(int level) {
   return *s;
 }
 
-Eigen::Matrix3Xd shell_points(int n, double lo, double hi, std::uint64_t seed) {
+// Points in the shell lo <= |x| <= hi, in the order of a Morton curve (as the masses of a
+// cloth are: neighbours in memory are neighbours in space) or shuffled.
+Eigen::Matrix3Xd shell_points(int n, double lo, double hi, std::uint64_t seed, bool coherent = true) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   std::uniform_real_distribution<double> r(lo, hi);
+  std::vector<std::pair<std::uint64_t, Eigen::Vector3d>> pts(static_cast<std::size_t>(n));
+  for (auto& [key, p] : pts) {
+    p = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized() * r(rng);
+    key = 0;
+    for (int bit = 0; bit < 21 && coherent; ++bit)
+      for (int k = 0; k < 3; ++k) {
+        const auto q = static_cast<std::uint64_t>((p[k] + 4.0) / 8.0 * (1 << 21));
+        key |= ((q >> bit) & 1u) << (3 * bit + k);
+      }
+  }
+  std::stable_sort(pts.begin(), pts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   Eigen::Matrix3Xd x(3, n);
-  for (int i = 0; i < n; ++i) x.col(i) = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized() * r(rng);
+  for (int i = 0; i < n; ++i) x.col(i) = pts[static_cast<std::size_t>(i)].second;
   return x;
 }
 
 void run(benchmark::State& state, clothsim::QueryMethod method, bool hints, int n, double lo,
-         double hi) {
+         double hi, bool coherent = true) {
   const auto& set = sphere(static_cast<int>(state.range(0)));
   // Two nearby configurations (~1 mm apart), alternated when hints are used.
-  const Eigen::Matrix3Xd xa = shell_points(n, lo, hi, 42);
-  const Eigen::Matrix3Xd xb = xa + 1e-3 * shell_points(n, 0.0, 1.0, 7);
+  const Eigen::Matrix3Xd xa = shell_points(n, lo, hi, 42, coherent);
+  const Eigen::Matrix3Xd xb = xa + 1e-3 * shell_points(n, 0.0, 1.0, 7, false);
   Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, n);
   std::vector<std::int32_t> h(hints ? static_cast<std::size_t>(n) : 0, -1);
   clothsim::PenaltyStats stats;
@@ -76,6 +90,9 @@ void BM_Bvh(benchmark::State& s) {
 void BM_BvhHints(benchmark::State& s) {
   run(s, clothsim::QueryMethod::Bvh, true, 4096, 1.0 - 1.5 * kEps, 1.0 + 1.5 * kEps);
 }
+void BM_BvhHintsShuffled(benchmark::State& s) {  // no memory coherence between points
+  run(s, clothsim::QueryMethod::Bvh, true, 4096, 1.0 - 1.5 * kEps, 1.0 + 1.5 * kEps, false);
+}
 void BM_BvhFar(benchmark::State& s) {  // nothing in reach: the root-box early-out
   run(s, clothsim::QueryMethod::Bvh, false, 4096, 2.0, 3.0);
 }
@@ -85,6 +102,7 @@ void BM_BvhFar(benchmark::State& s) {  // nothing in reach: the root-box early-o
 BENCHMARK(BM_BruteForce)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Bvh)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BvhHints)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BvhHintsShuffled)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BvhFar)->Arg(6)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();

@@ -9,21 +9,35 @@
 
 namespace clothsim {
 
+#ifdef CLOTHSIM_COLLISION_COUNTERS
+std::uint64_t g_tri_tests = 0, g_box_tests = 0;  // profiling builds only
+#endif
+
 namespace {
 
 Eigen::Vector3d unit_normal(const Eigen::Vector3d& ab, const Eigen::Vector3d& ac) {
   return ab.cross(ac).normalized();
 }
 
-// Squared distance from p to a node's box (0 inside). Float corners convert exactly.
-inline double box_dist_sq(const ColliderSet::Node& n, const double p[3]) {
-  double d2 = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double lo = static_cast<double>(n.lo[k]), hi = static_cast<double>(n.hi[k]);
-    const double e = p[k] < lo ? lo - p[k] : (p[k] > hi ? p[k] - hi : 0.0);
-    d2 += e * e;
-  }
-  return d2;
+// Squared distance from p to a node's box (0 inside), in float: cheap, branch-free, and made
+// a safe lower bound by the caller's margin (see prune_bound()).
+inline float box_dist_sq(const ColliderSet::Node& n, const float p[3]) {
+  const float q0 = p[0] - n.c[0], q1 = p[1] - n.c[1], q2 = p[2] - n.c[2];
+  const float e0 = std::max(std::abs(n.a[0] * q0 + n.a[1] * q1 + n.a[2] * q2) - n.h[0], 0.0f);
+  const float e1 = std::max(std::abs(n.a[3] * q0 + n.a[4] * q1 + n.a[5] * q2) - n.h[1], 0.0f);
+  const float e2 = std::max(std::abs(n.a[6] * q0 + n.a[7] * q1 + n.a[8] * q2) - n.h[2], 0.0f);
+#ifdef CLOTHSIM_COLLISION_COUNTERS
+  ++g_box_tests;
+#endif
+  return e0 * e0 + e1 * e1 + e2 * e2;
+}
+
+// A box may hold a triangle at squared distance <= best only if its float distance is <= the
+// returned bound: float rounding in box_dist_sq() is below `margin` (4e-6 of the magnitudes
+// involved; float epsilon is 6e-8), and the axes' norm is <= 1 + 1e-6 (checked at build).
+inline float prune_bound(double best, double margin) {
+  const double r = std::sqrt(best) + margin;
+  return static_cast<float>(r * r * (1.0 + 1e-5)) * (1.0f + 1e-6f);
 }
 
 inline double box_dist_sq(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const double p[3]) {
@@ -35,18 +49,9 @@ inline double box_dist_sq(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, 
   return d2;
 }
 
-// Float box corners rounded outward, then padded, so that a box always contains every
-// computed closest point of its triangles (double rounding there is far below `pad`).
-float round_down(double v, double pad) {
-  const double t = v - pad;
-  auto f = static_cast<float>(t);
-  if (static_cast<double>(f) > t) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-  return f;
-}
-float round_up(double v, double pad) {
-  const double t = v + pad;
-  auto f = static_cast<float>(t);
-  if (static_cast<double>(f) < t) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+float round_up(double v) {
+  auto f = static_cast<float>(v);
+  if (static_cast<double>(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
   return f;
 }
 
@@ -138,6 +143,9 @@ void ColliderSet::build() {
   if (built_) throw std::logic_error("ColliderSet::build() called twice");
   std::size_t total = 0;
   for (const Object& o : objects_) total += o.indices.size() / 3;
+  if (total >= (std::size_t{1} << 28))  // leaf triangle slots are packed in 29 bits
+    throw std::invalid_argument("colliders: " + std::to_string(total) +
+                                " triangles, at most 2^28 supported");
   for (auto* v : {&ax_, &ay_, &az_, &bx_, &by_, &bz_, &cx_, &cy_, &cz_, &nx_, &ny_, &nz_})
     v->reserve(total);
   orig_.reserve(total);
@@ -145,6 +153,7 @@ void ColliderSet::build() {
 
   lo_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   hi_ = -lo_;
+  double max_pad = 0.0;
   for (Object& ob : objects_) {
     const std::size_t nt = ob.indices.size() / 3;
     ob.input_to_kept.assign(nt, -1);
@@ -166,25 +175,26 @@ void ColliderSet::build() {
     ob.tri_end = ob.tri_begin;
     if (kept.empty()) continue;
 
-    // Per kept triangle: bounds and centroid, then a median-split BVH over a permutation.
-    const auto nk = static_cast<Eigen::Index>(kept.size());
-    Eigen::Matrix3Xd tlo(3, nk), thi(3, nk);
-    std::vector<double> cent(3 * kept.size());
-    for (Eigen::Index i = 0; i < nk; ++i) {
-      const std::uint32_t t = kept[static_cast<std::size_t>(i)];
-      const auto a = ob.vertices.col(ob.indices[3 * t]);
-      const auto b = ob.vertices.col(ob.indices[3 * t + 1]);
-      const auto c = ob.vertices.col(ob.indices[3 * t + 2]);
-      tlo.col(i) = a.cwiseMin(b).cwiseMin(c);
-      thi.col(i) = a.cwiseMax(b).cwiseMax(c);
-      for (int k = 0; k < 3; ++k)
-        cent[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(k)] = (a[k] + b[k] + c[k]) / 3.0;
+    // Per kept triangle: corners and centroid, then a median-split BVH over a permutation.
+    std::vector<double> corners(9 * kept.size()), cent(3 * kept.size());
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      const std::uint32_t t = kept[i];
+      for (std::size_t j = 0; j < 3; ++j)
+        for (std::size_t k = 0; k < 3; ++k) {
+          const double x = ob.vertices(static_cast<Eigen::Index>(k), ob.indices[3 * t + j]);
+          corners[9 * i + 3 * j + k] = x;
+          cent[3 * i + k] += x / 3.0;
+          lo_[static_cast<Eigen::Index>(k)] = std::min(lo_[static_cast<Eigen::Index>(k)], x);
+          hi_[static_cast<Eigen::Index>(k)] = std::max(hi_[static_cast<Eigen::Index>(k)], x);
+        }
     }
     std::vector<std::uint32_t> perm(kept.size());
     for (std::size_t i = 0; i < perm.size(); ++i) perm[i] = static_cast<std::uint32_t>(i);
     // Pad: many orders of magnitude above double rounding in the kernel (~1e-15 scale).
     const double pad = 1e-9 * scale;
-    ob.root = build_node(0, static_cast<std::uint32_t>(perm.size()), cent, perm, tlo, thi, pad);
+    max_pad = std::max(max_pad, pad);
+    ob.scale = scale;
+    ob.root = build_node(0, static_cast<std::uint32_t>(perm.size()), cent, perm, corners, pad);
 
     // Store the triangles in leaf order; node triangle indices become global slots.
     for (std::uint32_t i : perm) {
@@ -202,40 +212,118 @@ void ColliderSet::build() {
     }
     ob.tri_end = static_cast<std::uint32_t>(orig_.size());
     for (std::size_t ni = ob.root; ni < nodes_.size(); ++ni)
-      if (nodes_[ni].count > 0) nodes_[ni].index += ob.tri_begin;
-    // The padded root box, so the early-out never rejects what a query would find.
-    for (int k = 0; k < 3; ++k) {
-      lo_[k] = std::min(lo_[k], static_cast<double>(nodes_[ob.root].lo[k]));
-      hi_[k] = std::max(hi_[k], static_cast<double>(nodes_[ob.root].hi[k]));
-    }
+      if (nodes_[ni].leaf()) nodes_[ni].packed += ob.tri_begin << 3;
   }
+  // Padded, so the early-out never rejects what a query would find.
+  lo_.array() -= max_pad;
+  hi_.array() += max_pad;
   if (orig_.empty()) lo_.setZero(), hi_.setZero();
   built_ = true;
 }
 
+namespace {
+
+// Half extents of the corners about centre c along float axes a (rows), padded, rounded up.
+void extents(const float a[9], const float c[3], const std::vector<double>& corners,
+             const std::vector<std::uint32_t>& perm, std::uint32_t begin, std::uint32_t end,
+             double pad, float h[3]) {
+  double m[3] = {0.0, 0.0, 0.0};
+  for (std::uint32_t i = begin; i < end; ++i)
+    for (std::size_t j = 0; j < 3; ++j) {
+      const double* v = &corners[9 * perm[i] + 3 * j];
+      const double q[3] = {v[0] - static_cast<double>(c[0]), v[1] - static_cast<double>(c[1]),
+                           v[2] - static_cast<double>(c[2])};
+      for (int k = 0; k < 3; ++k)
+        m[k] = std::max(m[k], std::abs(static_cast<double>(a[3 * k]) * q[0] +
+                                       static_cast<double>(a[3 * k + 1]) * q[1] +
+                                       static_cast<double>(a[3 * k + 2]) * q[2]));
+    }
+  for (int k = 0; k < 3; ++k) h[k] = round_up(m[k] + pad);
+}
+
+// |A|_2 <= 1 + 1e-6 for the float axes, as box_dist_sq() assumes.
+bool nearly_orthonormal(const float a[9]) {
+  Eigen::Matrix3d A;
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) A(r, k) = static_cast<double>(a[3 * r + k]);
+  return ((A * A.transpose()) - Eigen::Matrix3d::Identity()).norm() < 1e-6;
+}
+
+}  // namespace
+
 std::uint32_t ColliderSet::build_node(std::uint32_t begin, std::uint32_t end,
                                       std::vector<double>& cent, std::vector<std::uint32_t>& perm,
-                                      const Eigen::Matrix3Xd& tlo, const Eigen::Matrix3Xd& thi,
-                                      double pad) {
+                                      const std::vector<double>& corners, double pad) {
   const auto self = static_cast<std::uint32_t>(nodes_.size());
   nodes_.push_back(Node{});
+  // Axis-aligned box, and an oriented one: normal = area-weighted mean normal, first tangent =
+  // the principal direction of the corners in that plane. Keep the smaller volume.
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()),
-                  hi = -lo, clo = lo, chi = hi;
+                  hi = -lo, clo = lo, chi = hi, area = Eigen::Vector3d::Zero(),
+                  mean = Eigen::Vector3d::Zero();
   for (std::uint32_t i = begin; i < end; ++i) {
-    const std::uint32_t t = perm[i];
-    lo = lo.cwiseMin(tlo.col(t));
-    hi = hi.cwiseMax(thi.col(t));
-    const Eigen::Vector3d c(cent[3 * t], cent[3 * t + 1], cent[3 * t + 2]);
+    const double* v = &corners[9 * perm[i]];
+    const Eigen::Vector3d A(v[0], v[1], v[2]), B(v[3], v[4], v[5]), C(v[6], v[7], v[8]);
+    lo = lo.cwiseMin(A).cwiseMin(B).cwiseMin(C);
+    hi = hi.cwiseMax(A).cwiseMax(B).cwiseMax(C);
+    area += (B - A).cross(C - A);
+    mean += A + B + C;
+    const Eigen::Vector3d c(cent[3 * perm[i]], cent[3 * perm[i] + 1], cent[3 * perm[i] + 2]);
     clo = clo.cwiseMin(c);
     chi = chi.cwiseMax(c);
   }
-  Node n{};
-  for (int k = 0; k < 3; ++k) n.lo[k] = round_down(lo[k], pad), n.hi[k] = round_up(hi[k], pad);
+  mean /= 3.0 * (end - begin);
+
+  Node best{};
+  for (int k = 0; k < 3; ++k) {
+    best.c[k] = static_cast<float>(0.5 * (lo[k] + hi[k]));
+    best.a[4 * k] = 1.0f;
+  }
+  extents(best.a, best.c, corners, perm, begin, end, pad, best.h);
+  if (area.norm() > 0.0) {
+    const Eigen::Vector3d n = area.normalized();
+    Eigen::Vector3d u = n.unitOrthogonal(), w = n.cross(u);
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (std::uint32_t i = begin; i < end; ++i)
+      for (std::size_t j = 0; j < 3; ++j) {
+        const double* v = &corners[9 * perm[i] + 3 * j];
+        const Eigen::Vector3d q = Eigen::Vector3d(v[0], v[1], v[2]) - mean;
+        const Eigen::Vector2d r(q.dot(u), q.dot(w));
+        cov += r * r.transpose();
+      }
+    const double angle = 0.5 * std::atan2(2.0 * cov(0, 1), cov(0, 0) - cov(1, 1));
+    const Eigen::Vector3d u2 = std::cos(angle) * u + std::sin(angle) * w;
+    const Eigen::Vector3d w2 = n.cross(u2);
+    Node o{};
+    for (int k = 0; k < 3; ++k) {
+      o.a[k] = static_cast<float>(n[k]);
+      o.a[3 + k] = static_cast<float>(u2[k]);
+      o.a[6 + k] = static_cast<float>(w2[k]);
+    }
+    // Centre: the middle of the corners' span along each axis.
+    Eigen::Vector3d tmin = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()),
+                    tmax = -tmin;
+    const Eigen::Matrix3d R = (Eigen::Matrix3d() << n.transpose(), u2.transpose(), w2.transpose()).finished();
+    for (std::uint32_t i = begin; i < end; ++i)
+      for (std::size_t j = 0; j < 3; ++j) {
+        const double* v = &corners[9 * perm[i] + 3 * j];
+        const Eigen::Vector3d t = R * Eigen::Vector3d(v[0], v[1], v[2]);
+        tmin = tmin.cwiseMin(t);
+        tmax = tmax.cwiseMax(t);
+      }
+    const Eigen::Vector3d centre = R.transpose() * (0.5 * (tmin + tmax));
+    for (int k = 0; k < 3; ++k) o.c[k] = static_cast<float>(centre[k]);
+    extents(o.a, o.c, corners, perm, begin, end, pad, o.h);
+    const auto volume = [](const Node& x) {
+      return static_cast<double>(x.h[0]) * static_cast<double>(x.h[1]) * static_cast<double>(x.h[2]);
+    };
+    if (nearly_orthonormal(o.a) && volume(o) < volume(best)) best = o;
+  }
+
   constexpr std::uint32_t kLeafSize = 4;
   if (end - begin <= kLeafSize) {
-    n.index = begin;  // local slot, made global by build()
-    n.count = end - begin;
-    nodes_[self] = n;
+    best.packed = (begin << 3) | (end - begin);  // local slot, made global by build()
+    nodes_[self] = best;
     return self;
   }
   // Median split along the longest centroid extent; ties in position broken by index so the
@@ -251,11 +339,10 @@ std::uint32_t ColliderSet::build_node(std::uint32_t begin, std::uint32_t end,
                      const double cy = cent[3 * y + static_cast<std::uint32_t>(axis)];
                      return cx < cy || (cx == cy && x < y);
                    });
-  build_node(begin, mid, cent, perm, tlo, thi, pad);  // left = self + 1
-  const std::uint32_t right = build_node(mid, end, cent, perm, tlo, thi, pad);
-  n.index = right;
-  n.count = 0;
-  nodes_[self] = n;
+  build_node(begin, mid, cent, perm, corners, pad);  // left = self + 1
+  const std::uint32_t right = build_node(mid, end, cent, perm, corners, pad);
+  best.packed = right << 3;
+  nodes_[self] = best;
   return self;
 }
 
@@ -271,6 +358,9 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
   bool found = false;
 
   const auto test = [&](std::uint32_t slot) {
+#ifdef CLOTHSIM_COLLISION_COUNTERS
+    ++g_tri_tests;
+#endif
     const detail::Tri t{ax_[slot], ay_[slot], az_[slot], bx_[slot], by_[slot], bz_[slot],
                         cx_[slot], cy_[slot], cz_[slot], nx_[slot], ny_[slot], nz_[slot]};
     double s, v, w;
@@ -292,20 +382,27 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
     // (equal distance may hide a lower-index tie).
     struct Entry {
       std::uint32_t node;
-      double d2;
+      float d2;
     };
     Entry stack[64];
     int top = 0;
+    const float pf[3] = {static_cast<float>(p[0]), static_cast<float>(p[1]),
+                         static_cast<float>(p[2])};
+    const double margin =
+        4e-6 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
+    double bound_for = best;
+    float bound = prune_bound(best, margin);
     std::uint32_t ni = ob.root;
-    if (box_dist_sq(nodes_[ni], p) > best) goto done;
+    if (box_dist_sq(nodes_[ni], pf) > bound) goto done;
     for (;;) {
       const Node& n = nodes_[ni];
-      if (n.count > 0) {
-        for (std::uint32_t slot = n.index; slot < n.index + n.count; ++slot) test(slot);
+      if (n.leaf()) {
+        for (std::uint32_t slot = n.index(), e = slot + n.count(); slot < e; ++slot) test(slot);
+        if (best != bound_for) bound_for = best, bound = prune_bound(best, margin);
       } else {
-        const std::uint32_t l = ni + 1, r = n.index;
-        const double dl = box_dist_sq(nodes_[l], p), dr = box_dist_sq(nodes_[r], p);
-        const bool lok = dl <= best, rok = dr <= best;
+        const std::uint32_t l = ni + 1, r = n.index();
+        const float dl = box_dist_sq(nodes_[l], pf), dr = box_dist_sq(nodes_[r], pf);
+        const bool lok = dl <= bound, rok = dr <= bound;
         if (lok && rok) {
           const bool left_first = dl <= dr;
           stack[top++] = left_first ? Entry{r, dr} : Entry{l, dl};
@@ -321,7 +418,7 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
       for (;;) {
         if (top == 0) goto done;
         const Entry e = stack[--top];
-        if (e.d2 <= best) {
+        if (e.d2 <= bound) {
           ni = e.node;
           break;
         }
