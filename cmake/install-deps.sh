@@ -17,6 +17,8 @@ packages=(
   clang libclang-rt-14-dev gnuplot-nox assimp-testmodels
   # time -v for the build-speed benchmark
   time
+  # strace: fault injection (SIGKILL at the K-th write/rename) in the reliability tests
+  strace
 )
 
 missing=()
