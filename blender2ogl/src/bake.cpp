@@ -78,8 +78,8 @@ Cloth build_cloth(Scene& s, std::uint32_t object_index, bool reverse, Stats& sta
 
   // Weld by exact position, in order of first appearance.
   std::unordered_map<Key, std::uint32_t, KeyHash> weld;
+  weld.reserve(o.vertex_count);
   std::vector<std::uint32_t> vmass(o.vertex_count, std::numeric_limits<std::uint32_t>::max());
-  std::vector<std::vector<std::uint32_t>> members;
   std::uint32_t loose = 0;
   for (std::uint32_t v = 0; v < o.vertex_count; ++v) {
     if (!in_face[v]) {
@@ -88,12 +88,8 @@ Cloth build_cloth(Scene& s, std::uint32_t object_index, bool reverse, Stats& sta
     }
     const float* p = &s.positions[3 * (o.first_vertex + v)];
     const Key k{bits(p[0]), bits(p[1]), bits(p[2])};
-    auto [it, added] = weld.try_emplace(k, static_cast<std::uint32_t>(members.size()));
-    if (added) {
-      members.emplace_back();
-      c.rest_positions.insert(c.rest_positions.end(), {p[0], p[1], p[2]});
-    }
-    members[it->second].push_back(o.first_vertex + v);
+    auto [it, added] = weld.try_emplace(k, static_cast<std::uint32_t>(c.rest_positions.size() / 3));
+    if (added) c.rest_positions.insert(c.rest_positions.end(), {p[0], p[1], p[2]});
     vmass[v] = it->second;
   }
   if (loose > 0) {
@@ -101,19 +97,27 @@ Cloth build_cloth(Scene& s, std::uint32_t object_index, bool reverse, Stats& sta
     s.warnings.push_back(file + ": cloth '" + o.name + "': " + std::to_string(loose) +
                          " vertices in no face get no mass (vertex_mass = 0xffffffff)");
   }
-  c.mass_vertex_offsets.push_back(0);
-  for (const auto& m : members) {
-    c.mass_vertices.insert(c.mass_vertices.end(), m.begin(), m.end());
-    c.mass_vertex_offsets.push_back(static_cast<std::uint32_t>(c.mass_vertices.size()));
+  // mass -> render vertices (CSR, vertices ascending within a mass)
+  const std::uint32_t masses = c.mass_count();
+  c.mass_vertex_offsets.assign(masses + 1u, 0);
+  for (std::uint32_t m : vmass)
+    if (m != std::numeric_limits<std::uint32_t>::max()) ++c.mass_vertex_offsets[m + 1];
+  for (std::uint32_t m = 0; m < masses; ++m) c.mass_vertex_offsets[m + 1] += c.mass_vertex_offsets[m];
+  c.mass_vertices.resize(c.mass_vertex_offsets[masses]);
+  {
+    std::vector<std::uint32_t> fill(c.mass_vertex_offsets.begin(), c.mass_vertex_offsets.end() - 1);
+    for (std::uint32_t v = 0; v < o.vertex_count; ++v)
+      if (vmass[v] != std::numeric_limits<std::uint32_t>::max()) c.mass_vertices[fill[vmass[v]]++] = o.first_vertex + v;
   }
   if (reverse) c.vertex_mass = vmass;
 
   // Triangles in mass indices; degenerate ones (repeated mass, zero area) left out.
-  struct EdgeInfo {
-    std::uint32_t count = 0;
-    std::uint32_t opposite[2] = {0, 0};
+  struct HalfEdge {
+    std::uint64_t key;  // (min << 32) | max
+    std::uint32_t opposite;
   };
-  std::map<std::pair<std::uint32_t, std::uint32_t>, EdgeInfo> edges;
+  std::vector<HalfEdge> half;
+  half.reserve(o.index_count);
   std::uint32_t degenerate = 0;
   for (std::uint32_t i = o.first_index; i < o.first_index + o.index_count; i += 3) {
     const std::uint32_t t[3] = {vmass[s.indices[i] - o.first_vertex], vmass[s.indices[i + 1] - o.first_vertex],
@@ -135,10 +139,8 @@ Cloth build_cloth(Scene& s, std::uint32_t object_index, bool reverse, Stats& sta
     }
     c.triangles.insert(c.triangles.end(), t, t + 3);
     for (int e = 0; e < 3; ++e) {
-      const std::uint32_t a = t[e], b = t[(e + 1) % 3], opp = t[(e + 2) % 3];
-      EdgeInfo& info = edges[{std::min(a, b), std::max(a, b)}];
-      if (info.count < 2) info.opposite[info.count] = opp;
-      ++info.count;
+      const std::uint64_t a = t[e], b = t[(e + 1) % 3];
+      half.push_back({(std::min(a, b) << 32) | std::max(a, b), t[(e + 2) % 3]});
     }
   }
   if (degenerate > 0) {
@@ -146,27 +148,37 @@ Cloth build_cloth(Scene& s, std::uint32_t object_index, bool reverse, Stats& sta
     s.warnings.push_back(file + ": cloth '" + o.name + "': " + std::to_string(degenerate) +
                          " degenerate triangles left out of the cloth");
   }
+  std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
+    return x.key != y.key ? x.key < y.key : x.opposite < y.opposite;
+  });
 
   auto rest = [&](std::uint32_t a, std::uint32_t b) {
     return static_cast<float>(std::sqrt(dist2(&c.rest_positions[3 * a], &c.rest_positions[3 * b])));
   };
-  std::set<std::pair<std::uint32_t, std::uint32_t>> joined;
+  // Structural: every unique edge, sorted by (a, b). Bend: across each edge of exactly two
+  // triangles, joining the opposite masses unless they coincide or are already joined.
+  std::vector<std::uint64_t> structural, bend;
   std::uint32_t nonmanifold = 0;
-  for (const auto& [e, info] : edges) {  // std::map: sorted by (a, b)
-    c.springs.push_back({e.first, e.second, rest(e.first, e.second), 0});
-    joined.insert(e);
-    if (info.count > 2) ++nonmanifold;
+  for (std::size_t i = 0; i < half.size();) {
+    std::size_t j = i;
+    while (j < half.size() && half[j].key == half[i].key) ++j;
+    structural.push_back(half[i].key);
+    if (j - i > 2) ++nonmanifold;
+    if (j - i == 2) {
+      const std::uint64_t p = half[i].opposite, q = half[i + 1].opposite;
+      if (p != q) bend.push_back((std::min(p, q) << 32) | std::max(p, q));
+    }
+    i = j;
   }
+  std::sort(bend.begin(), bend.end());
+  bend.erase(std::unique(bend.begin(), bend.end()), bend.end());
+  for (std::uint64_t k : structural)
+    c.springs.push_back({static_cast<std::uint32_t>(k >> 32), static_cast<std::uint32_t>(k), 0.0f, 0});
   c.structural_count = static_cast<std::uint32_t>(c.springs.size());
-  std::set<std::pair<std::uint32_t, std::uint32_t>> bends;
-  for (const auto& [e, info] : edges) {
-    if (info.count != 2) continue;  // boundary, or non-manifold: no bend across it
-    const auto key = std::make_pair(std::min(info.opposite[0], info.opposite[1]), std::max(info.opposite[0], info.opposite[1]));
-    if (key.first == key.second || joined.count(key) != 0) continue;
-    bends.insert(key);
-    joined.insert(key);
-  }
-  for (const auto& b : bends) c.springs.push_back({b.first, b.second, rest(b.first, b.second), 1});
+  for (std::uint64_t k : bend)
+    if (!std::binary_search(structural.begin(), structural.end(), k))
+      c.springs.push_back({static_cast<std::uint32_t>(k >> 32), static_cast<std::uint32_t>(k), 0.0f, 1});
+  for (Spring& sp : c.springs) sp.rest_length = rest(sp.a, sp.b);
   if (nonmanifold > 0) {
     stats.nonmanifold_edges += nonmanifold;
     s.warnings.push_back(file + ": cloth '" + o.name + "': " + std::to_string(nonmanifold) +

@@ -5,6 +5,7 @@
 #define BLENDER2OGL_CONVERTER_HPP
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -107,10 +108,19 @@ struct Scene {
   std::vector<std::pair<std::string, double>> params;
   std::vector<std::filesystem::path> inputs_read;  ///< .obj, .mtl, textures (for the depfile)
   std::vector<std::string> warnings;
+  std::vector<std::pair<std::string, double>> timings_ms;  ///< phase -> milliseconds (-v)
   /// Points of `<OBJECT>_pins` helper objects (x y z ...), keyed by the helper's name;
   /// the helpers themselves are not emitted.
   std::map<std::string, std::vector<float>> pin_points;
 };
+
+/// Milliseconds since `t0`, and resets `t0`.
+inline double lap_ms(std::chrono::steady_clock::time_point& t0) {
+  const auto now = std::chrono::steady_clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - t0).count();
+  t0 = now;
+  return ms;
+}
 
 /// The assimp post-processing flags the converter uses (tests read with the same ones).
 unsigned import_flags();

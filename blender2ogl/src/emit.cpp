@@ -63,17 +63,15 @@ std::string sym_prefix(const Scene& s) { return "b2o_" + s.name + (s.name.back()
 // One bulk array: a symbol, its C++ element type and its bytes.
 struct Array {
   std::string symbol, type;
-  std::string bytes;
-  std::size_t count = 0;  // elements
-  std::string text;       // -c: the initializer list
+  const void* data = nullptr;  // the scene's own vector (not copied: big scenes)
+  std::size_t size = 0;        // bytes
+  std::size_t count = 0;       // elements
+  std::string text;            // -c: the initializer list
 };
 
 template <class T>
 Array make_array(std::string symbol, std::string type, const std::vector<T>& v) {
-  Array a{std::move(symbol), std::move(type), {}, v.size(), {}};
-  a.bytes.resize(v.size() * sizeof(T));
-  if (!v.empty()) std::memcpy(a.bytes.data(), v.data(), a.bytes.size());
-  return a;
+  return Array{std::move(symbol), std::move(type), v.data(), v.size() * sizeof(T), v.size(), {}};
 }
 
 std::string text_of(const std::vector<float>& v) {
@@ -318,14 +316,17 @@ std::vector<OutputFile> emit_scene(const Scene& s, const Options& opt) {
   const Layout L = collect(s, false);
   files.push_back({s.name + ".h", header(s, opt, nullptr)});
 
+  std::size_t total = 0;
+  for (const Array& a : L.arrays) total = (total + 15) / 16 * 16 + a.size;
   std::string bin;
+  bin.reserve(total);
   std::ostringstream asm_body;
   for (const Array& a : L.arrays) {
-    while (bin.size() % 16 != 0) bin += '\0';
+    bin.resize((bin.size() + 15) / 16 * 16, '\0');
     asm_body << "\t.balign 16\n\t.globl " << a.symbol << "\n\t.type " << a.symbol << ", @object\n\t.size " << a.symbol
-             << ", " << a.bytes.size() << "\n"
-             << a.symbol << ":\n\t.incbin \"" << s.name << ".bin\", " << bin.size() << ", " << a.bytes.size() << "\n";
-    bin += a.bytes;
+             << ", " << a.size << "\n"
+             << a.symbol << ":\n\t.incbin \"" << s.name << ".bin\", " << bin.size() << ", " << a.size << "\n";
+    bin.append(static_cast<const char*>(a.data), a.size);
   }
   std::ostringstream S;
   S << "/* " << s.name << ".S: bulk arrays of scene " << s.name << ", baked by blender2ogl " << kVersion << " from "
@@ -349,7 +350,7 @@ std::vector<OutputFile> emit_scene(const Scene& s, const Options& opt) {
     << s.name << "\n";
   files.push_back({s.name + ".cpp", c.str()});
   files.push_back({s.name + ".S", S.str()});
-  files.push_back({s.name + ".bin", bin});
+  files.push_back({s.name + ".bin", std::move(bin)});
   return files;
 }
 

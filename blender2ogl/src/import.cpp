@@ -4,6 +4,7 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -90,9 +91,9 @@ void remove_pin_helpers(Scene& s) {
 }  // namespace
 
 unsigned import_flags() {
-  // Not SplitLargeMeshes / PreTransformVertices / OptimizeMeshes / OptimizeGraph: they split
+  // JoinIdenticalVertices is done exactly by the importer below. Not SplitLargeMeshes / PreTransformVertices / OptimizeMeshes / OptimizeGraph: they split
   // big cloths, move vertices or merge objects.
-  return aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
+  return aiProcess_Triangulate | aiProcess_GenSmoothNormals |
          aiProcess_SortByPType | aiProcess_ValidateDataStructure;
 }
 
@@ -110,9 +111,11 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
   const std::filesystem::path folder = file.parent_path();
   out.inputs_read.push_back(std::filesystem::absolute(file));
 
+  auto t0 = std::chrono::steady_clock::now();
   ObjScan scan;
   if (is_obj) {
     scan = prescan_obj_file(file);
+    out.timings_ms.emplace_back("pre-scan", lap_ms(t0));
     for (const auto& lib : scan.mtllibs) {
       const auto p = folder / lib;
       if (!std::filesystem::is_regular_file(p, ec))
@@ -134,6 +137,7 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
     while (!why.empty() && (why.back() == '\n' || why.back() == '\r')) why.pop_back();
     throw InputError(file.string() + ": cannot import: " + (why.empty() ? "unknown error" : why));
   }
+  out.timings_ms.emplace_back("assimp", lap_ms(t0));
   if ((ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || ai->mNumMeshes == 0 || ai->mRootNode == nullptr)
     throw InputError(file.string() + ": no triangles (empty scene)");
 
@@ -212,24 +216,26 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
       if ((mesh->mPrimitiveTypes & ~static_cast<unsigned>(aiPrimitiveType_TRIANGLE | aiPrimitiveType_NGONEncodingFlag)) != 0 ||
           mesh->mNumFaces == 0)
         continue;  // points/lines were sorted out; nothing else is drawn
-      const std::uint32_t base = static_cast<std::uint32_t>(out.positions.size() / 3);
-      if (base + static_cast<std::uint64_t>(mesh->mNumVertices) > limit ||
+      if (out.positions.size() / 3 + static_cast<std::uint64_t>(mesh->mNumVertices) > limit ||
           out.indices.size() + 3ull * mesh->mNumFaces > limit)
         throw InputError(file.string() + ": too large (more than 2^30 vertices or indices)");
+      // Each face corner's attributes (transformed when the node is), then an exact join:
+      // corners with bit-identical position, normal and texcoord become one vertex, in order
+      // of first use. (assimp's JoinIdenticalVertices merges within 1e-5 and costs 1.7 s and
+      // 300 MB on a 1M-triangle OBJ; see docs/blender2ogl.md.)
       bool bad_normal = false;
+      std::vector<float> corner(8 * static_cast<std::size_t>(mesh->mNumVertices));
       for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
         aiVector3D p = mesh->mVertices[v];
         if (!finite3(p))
           throw InputError(file.string() + ": object '" + obj.name + "' has a non-finite vertex coordinate");
         if (moved) p = transform * p;
-        out.positions.insert(out.positions.end(), {p.x, p.y, p.z});
         aiVector3D n = mesh->mNormals != nullptr ? mesh->mNormals[v] : aiVector3D(0, 0, 0);
         if (moved) n = (normal_matrix * n).NormalizeSafe();
         if (!finite3(n)) {
           n = aiVector3D(0, 0, 0);  // a generated normal of a degenerate face
           bad_normal = true;
         }
-        out.normals.insert(out.normals.end(), {n.x, n.y, n.z});
         float u = 0.0f, w = 0.0f;
         if (mesh->HasTextureCoords(0)) {
           u = mesh->mTextureCoords[0][v].x;
@@ -237,10 +243,40 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
           if (!std::isfinite(u) || !std::isfinite(w))
             throw InputError(file.string() + ": object '" + obj.name + "' has a non-finite texture coordinate");
         }
-        out.texcoords.insert(out.texcoords.end(), {u, w});
+        const float attrs[8] = {p.x, p.y, p.z, n.x, n.y, n.z, u, w};
+        std::memcpy(&corner[8 * static_cast<std::size_t>(v)], attrs, sizeof attrs);
       }
       if (bad_normal)
         out.warnings.push_back(file.string() + ": object '" + obj.name + "': some normals could not be generated (degenerate faces); set to zero");
+      std::size_t table_size = 16;
+      while (table_size < 2ull * mesh->mNumVertices) table_size *= 2;
+      constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
+      std::vector<std::uint32_t> table(table_size, kEmpty);  // -> assimp vertex of the joined one
+      std::vector<std::uint32_t> joined(mesh->mNumVertices, kEmpty);
+      out.positions.reserve(out.positions.size() + 3ull * mesh->mNumVertices);
+      out.normals.reserve(out.normals.size() + 3ull * mesh->mNumVertices);
+      out.texcoords.reserve(out.texcoords.size() + 2ull * mesh->mNumVertices);
+      out.indices.reserve(out.indices.size() + 3ull * mesh->mNumFaces);
+      auto join = [&](unsigned v) -> std::uint32_t {
+        if (joined[v] != kEmpty) return joined[v];
+        const float* a = &corner[8 * static_cast<std::size_t>(v)];
+        std::uint32_t w[8];
+        std::memcpy(w, a, sizeof w);
+        std::uint64_t h = 0x9E3779B97F4A7C15ull;
+        for (std::uint32_t x : w) h = (h ^ x) * 0xff51afd7ed558ccdull, h ^= h >> 29;
+        for (std::size_t slot = h & (table_size - 1);; slot = (slot + 1) & (table_size - 1)) {
+          const std::uint32_t other = table[slot];
+          if (other == kEmpty) {
+            table[slot] = v;
+            joined[v] = static_cast<std::uint32_t>(out.positions.size() / 3);
+            out.positions.insert(out.positions.end(), a, a + 3);
+            out.normals.insert(out.normals.end(), a + 3, a + 6);
+            out.texcoords.insert(out.texcoords.end(), a + 6, a + 8);
+            return joined[v];
+          }
+          if (std::memcmp(&corner[8 * static_cast<std::size_t>(other)], a, 32) == 0) return joined[v] = joined[other];
+        }
+      };
       Submesh sm;
       sm.first_index = static_cast<std::uint32_t>(out.indices.size());
       for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
@@ -251,7 +287,7 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
         for (unsigned c = 0; c < 3; ++c) {
           if (face.mIndices[c] >= mesh->mNumVertices)
             throw InputError(file.string() + ": object '" + obj.name + "' has a vertex index out of range");
-          out.indices.push_back(base + face.mIndices[c]);
+          out.indices.push_back(join(face.mIndices[c]));
         }
       }
       sm.index_count = static_cast<std::uint32_t>(out.indices.size()) - sm.first_index;
@@ -278,6 +314,8 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
     }
     out.objects.push_back(std::move(obj));
   }
+  out.timings_ms.emplace_back("join", lap_ms(t0));
+  importer.FreeScene();  // before the bake: big scenes need the memory
   if (out.objects.empty()) throw InputError(file.string() + ": no triangles (empty scene)");
   remove_pin_helpers(out);
   if (out.objects.empty()) throw InputError(file.string() + ": no triangles besides pin helpers");

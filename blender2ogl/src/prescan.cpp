@@ -5,6 +5,7 @@
 #include <cstring>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -17,19 +18,6 @@ namespace {
 
 [[noreturn]] void fail(const std::filesystem::path& file, std::size_t line, const std::string& what) {
   throw InputError(file.string() + ":" + std::to_string(line) + ": " + what);
-}
-
-std::vector<std::string_view> split_ws(std::string_view s) {
-  std::vector<std::string_view> out;
-  std::size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && (s[i] == ' ' || s[i] == '\t' || s[i] == '\r' || s[i] == '\f' || s[i] == '\v')) ++i;
-    std::size_t j = i;
-    while (j < s.size() && !(s[j] == ' ' || s[j] == '\t' || s[j] == '\r' || s[j] == '\f' || s[j] == '\v')) ++j;
-    if (j > i) out.push_back(s.substr(i, j - i));
-    i = j;
-  }
-  return out;
 }
 
 // A decimal number as OBJ writers produce it: [+-]digits[.digits][(e|E)[+-]digits].
@@ -51,8 +39,14 @@ bool parse_number(std::string_view t, double& value) {
     if (exp_digits == 0) return false;
   }
   if (i != t.size()) return false;
-  const std::string copy(t);
-  value = std::strtod(copy.c_str(), nullptr);
+  // Only a long mantissa or an exponent can leave float range; assimp reads floats.
+  value = 0.0;
+  if (t.size() > 30 || t.find_first_of("eE") != std::string_view::npos) {
+    const std::string copy(t);
+    value = std::strtod(copy.c_str(), nullptr);
+    if (std::fabs(value) > static_cast<double>(std::numeric_limits<float>::max()))
+      value = std::numeric_limits<double>::infinity();
+  }
   return true;
 }
 
@@ -60,9 +54,12 @@ bool parse_int(std::string_view t, long long& value) {
   if (t.empty()) return false;
   std::size_t i = (t[0] == '-' || t[0] == '+') ? 1 : 0;
   if (i == t.size() || t.size() > 12) return false;
-  for (std::size_t k = i; k < t.size(); ++k)
+  long long v = 0;
+  for (std::size_t k = i; k < t.size(); ++k) {
     if (t[k] < '0' || t[k] > '9') return false;
-  value = std::strtoll(std::string(t).c_str(), nullptr, 10);
+    v = v * 10 + (t[k] - '0');
+  }
+  value = t[0] == '-' ? -v : v;
   return true;
 }
 
@@ -80,12 +77,12 @@ bool is_number_like(std::string_view t) {
 ObjScan prescan_obj_file(const std::filesystem::path& file) {
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec)) throw InputError(file.string() + ": is a directory, not a model file");
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in(file, std::ios::binary | std::ios::ate);
   if (!in) throw InputError(file.string() + ": cannot open: " + std::strerror(errno));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(file.string() + ": cannot read");
-  const std::string text = ss.str();
+  std::string text(static_cast<std::size_t>(in.tellg()), '\0');
+  in.seekg(0);
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (!in) throw InputError(file.string() + ": cannot read");
 
   ObjScan scan;
   std::string_view rest(text);
@@ -95,39 +92,64 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
 
   std::size_t line_no = 0;
   std::string current_group;
+  bool in_pin_object = false;
   std::string joined;
+  std::vector<std::string_view> tok;
   while (!rest.empty()) {
     ++line_no;
     const std::size_t start_line = line_no;
     std::size_t nl = rest.find('\n');
     std::string_view line = rest.substr(0, nl);
     rest = (nl == std::string_view::npos) ? std::string_view() : rest.substr(nl + 1);
-    // A trailing backslash continues the line.
-    joined.assign(line);
-    while (!joined.empty() && (joined.back() == '\\' || (joined.back() == '\r' && joined.size() > 1 && joined[joined.size() - 2] == '\\')) && !rest.empty()) {
+    // A trailing backslash continues the line (rare: only then is the line copied).
+    std::string_view body_all = line;
+    const bool continued = !line.empty() && (line.back() == '\\' || (line.size() > 1 && line.back() == '\r' && line[line.size() - 2] == '\\'));
+    if (continued) joined.assign(line);
+    while (continued && !joined.empty() && (joined.back() == '\\' || (joined.back() == '\r' && joined.size() > 1 && joined[joined.size() - 2] == '\\')) && !rest.empty()) {
       joined.erase(joined.rfind('\\'));
       nl = rest.find('\n');
       joined.append(rest.substr(0, nl));
       rest = (nl == std::string_view::npos) ? std::string_view() : rest.substr(nl + 1);
       ++line_no;
     }
-    for (unsigned char c : joined) {
-      if (c < 0x20 && c != '\t' && c != '\r' && c != '\f' && c != '\v')
-        fail(file, start_line, "binary data (byte 0x" + [&] {
-          const char* hex = "0123456789abcdef";
-          return std::string{hex[c >> 4], hex[c & 15]};
-        }() + ") in a text model file");
+    if (continued) body_all = joined;
+    // One pass: binary bytes, the comment, the tokens.
+    tok.clear();
+    std::size_t tok_start = std::string_view::npos, end = body_all.size();
+    for (std::size_t i = 0; i < end; ++i) {
+      const unsigned char c = static_cast<unsigned char>(body_all[i]);
+      if (c > ' ') {
+        if (c == '#') {
+          end = i;  // (bytes after '#' are still checked below)
+          break;
+        }
+        if (tok_start == std::string_view::npos) tok_start = i;
+        continue;
+      }
+      if (c != ' ' && c != '\t' && c != '\r' && c != '\f' && c != '\v') {
+        const char* hex = "0123456789abcdef";
+        fail(file, start_line, std::string("binary data (byte 0x") + hex[c >> 4] + hex[c & 15] + ") in a text model file");
+      }
+      if (tok_start != std::string_view::npos) {
+        tok.push_back(body_all.substr(tok_start, i - tok_start));
+        tok_start = std::string_view::npos;
+      }
     }
-    std::string_view body(joined);
-    if (const auto hash = body.find('#'); hash != std::string_view::npos) body = body.substr(0, hash);
-    const auto tok = split_ws(body);
+    if (tok_start != std::string_view::npos) tok.push_back(body_all.substr(tok_start, end - tok_start));
+    for (std::size_t i = end; i < body_all.size(); ++i) {
+      const unsigned char c = static_cast<unsigned char>(body_all[i]);
+      if (c < 0x20 && c != '\t' && c != '\r' && c != '\f' && c != '\v') {
+        const char* hex = "0123456789abcdef";
+        fail(file, start_line, std::string("binary data (byte 0x") + hex[c >> 4] + hex[c & 15] + ") in a text model file");
+      }
+    }
     if (tok.empty()) continue;
     const std::string_view key = tok[0];
-    auto numbers = [&](std::size_t min_count, const char* what) {
+    double values[4] = {0, 0, 0, 0};
+    auto numbers = [&](std::size_t min_count, const char* what) -> const double* {
       if (tok.size() - 1 < min_count)
         fail(file, start_line, std::string("'") + std::string(key) + "' needs " + std::to_string(min_count) + " " + what +
                                    ", found " + std::to_string(tok.size() - 1) + " (truncated file?)");
-      std::vector<double> values;
       for (std::size_t k = 1; k < tok.size(); ++k) {
         double v = 0;
         if (!parse_number(tok[k], v)) {
@@ -135,14 +157,18 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
           fail(file, start_line, "malformed number '" + std::string(tok[k]) + "'");
         }
         if (!std::isfinite(v)) fail(file, start_line, "number out of range '" + std::string(tok[k]) + "'");
-        values.push_back(v);
+        if (k <= 4) values[k - 1] = v;
       }
       return values;
     };
     if (key == "v") {
-      const auto v = numbers(3, "coordinates");
+      const double* v = numbers(3, "coordinates");
       ++scan.positions;
-      if (!current_group.empty() && is_pin_object_name(current_group)) {
+      if (in_pin_object) {
+        // (the values are only parsed here: pin points need them, nothing else does)
+        double xyz[3];
+        for (int k = 0; k < 3; ++k) xyz[k] = std::strtod(std::string(tok[static_cast<std::size_t>(k) + 1]).c_str(), nullptr);
+        v = xyz;
         auto& pts = scan.pin_points[current_group];
         pts.insert(pts.end(), {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])});
       }
@@ -188,9 +214,12 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     } else if (key == "o" || key == "g") {
       ++scan.groups;
       current_group = tok.size() > 1 ? std::string(tok[1]) : std::string();
-      for (std::size_t k = 2; k < tok.size() && key == "o"; ++k) current_group += " " + std::string(tok[k]);
+      // as assimp names them: `o` up to the first space, `g` the whole rest
+      for (std::size_t k = 2; k < tok.size() && key == "g"; ++k) current_group.append(" ").append(tok[k]);
+      in_pin_object = is_pin_object_name(current_group);
     } else if (key == "mtllib") {
       // A name may hold spaces; assimp takes the rest of the line.
+      const std::string_view body = body_all.substr(0, end);
       std::string name(body.substr(body.find("mtllib") + 6));
       while (!name.empty() && (name.front() == ' ' || name.front() == '\t')) name.erase(0, 1);
       while (!name.empty() && (name.back() == ' ' || name.back() == '\t' || name.back() == '\r')) name.pop_back();

@@ -25,10 +25,14 @@ int run(const Options& opt, std::ostream& log) {
   Scene scene = import_scene(opt.input, opt.merge);
   scene.name = clean_identifier(opt.name.empty() ? opt.input.stem().string() : opt.name);
   Stats stats;
+  auto t1 = std::chrono::steady_clock::now();
   bake_scene(scene, opt, stats);
+  scene.timings_ms.emplace_back("bake", lap_ms(t1));
   const auto files = emit_scene(scene, opt);
+  scene.timings_ms.emplace_back("emit", lap_ms(t1));
   const std::filesystem::path dir = opt.target_dir.empty() ? opt.input.parent_path() : opt.target_dir;
   const int changed = write_outputs(dir.empty() ? std::filesystem::path(".") : dir, files);
+  scene.timings_ms.emplace_back("write", lap_ms(t1));
 
   if (!opt.depfile.empty()) {
     // Makefile syntax for the build tool: the header depends on every file read.
@@ -61,7 +65,10 @@ int run(const Options& opt, std::ostream& log) {
         << "  pins       " << pins << "\n"
         << "  warnings   " << scene.warnings.size() << "\n"
         << "  files      " << files.size() << " (" << changed << " changed, " << bytes << " bytes)\n"
-        << "  time       " << ms << " ms\n";
+        << "  time       " << ms << " ms (";
+    for (std::size_t i = 0; i < scene.timings_ms.size(); ++i)
+      log << (i ? ", " : "") << scene.timings_ms[i].first << " " << static_cast<long>(scene.timings_ms[i].second);
+    log << ")\n";
     for (const Cloth& c : scene.cloths)
       log << "  cloth " << scene.objects[c.object].name << ": " << c.mass_count() << " masses, " << c.springs.size()
           << " springs (" << c.structural_count << " structural, " << c.springs.size() - c.structural_count

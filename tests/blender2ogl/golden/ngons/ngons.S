@@ -1,6 +1,6 @@
 /* ngons.S: bulk arrays of scene ngons, baked by blender2ogl 0.1.0 from ngons_crlf.obj.
    Generated: do not edit. The bytes come from ngons.bin (found through -I<dir>);
-   ngons.bin: 680 bytes, fnv1a64 f449cc4f14114110 */
+   ngons.bin: 680 bytes, fnv1a64 7c98a7ffa50dbd02 */
 	.section .rodata.b2o.ngons,"a",@progbits
 	.balign 16
 	.globl b2o_ngons_positions

@@ -1,0 +1,132 @@
+// bake_speed: makes a Blender-like OBJ with about N triangles (a wavy grid with vt and vn),
+// then measures, with /usr/bin/time -v, (1) blender2ogl converting it and (2) the compiler
+// building the generated sources (the .cpp tables and the .S with .incbin) into objects.
+// Prints wall time and peak memory of each step and their sum.
+//
+//   bake_speed [--triangles N] [--work DIR] [--converter PATH] [--cxx COMPILER] [--include DIR]
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Measure {
+  double seconds = 0;
+  double peak_mb = 0;
+  int exit_code = -1;
+};
+
+// Runs `command` under /usr/bin/time -v; reads "Elapsed (wall clock)" and "Maximum resident".
+Measure timed(const std::string& command, const fs::path& log) {
+  const std::string full = "/usr/bin/time -v " + command + " > '" + log.string() + "' 2>&1";
+  Measure m;
+  const int status = std::system(full.c_str());
+  m.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(log);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.find("Elapsed (wall clock) time") != std::string::npos) {
+      const std::string t = line.substr(line.rfind(' ') + 1);  // [h:]mm:ss.ss
+      double total = 0, part = 0;
+      std::stringstream ss(t);
+      std::string field;
+      while (std::getline(ss, field, ':')) {
+        part = std::atof(field.c_str());
+        total = total * 60 + part;
+      }
+      m.seconds = total;
+    } else if (line.find("Maximum resident set size") != std::string::npos) {
+      m.peak_mb = std::atof(line.substr(line.rfind(' ') + 1).c_str()) / 1024.0;
+    }
+  }
+  return m;
+}
+
+void write_obj(const fs::path& file, long triangles) {
+  const long quads = std::max(1L, triangles / 2);
+  const long n = std::max(2L, static_cast<long>(std::lround(std::sqrt(static_cast<double>(quads))))) + 1;  // vertices per side
+  std::ofstream out(file);
+  out << "# bake_speed: a " << n << " x " << n << " grid, " << 2 * (n - 1) * (n - 1) << " triangles\n";
+  out << "o Sheet\n";
+  char buf[128];
+  for (long j = 0; j < n; ++j)
+    for (long i = 0; i < n; ++i) {
+      const double x = double(i) / double(n - 1), z = double(j) / double(n - 1);
+      std::snprintf(buf, sizeof buf, "v %.6f %.6f %.6f\n", x * 20 - 10, 0.1 * std::sin(x * 40) * std::cos(z * 40), z * 20 - 10);
+      out << buf;
+    }
+  for (long j = 0; j < n; ++j)
+    for (long i = 0; i < n; ++i) {
+      std::snprintf(buf, sizeof buf, "vt %.6f %.6f\n", double(i) / double(n - 1), double(j) / double(n - 1));
+      out << buf;
+    }
+  for (long j = 0; j < n; ++j)
+    for (long i = 0; i < n; ++i) out << "vn 0.0000 1.0000 0.0000\n";
+  out << "s 1\n";
+  for (long j = 0; j + 1 < n; ++j)
+    for (long i = 0; i + 1 < n; ++i) {
+      const long a = j * n + i + 1, b = a + 1, c = a + n + 1, d = a + n;
+      out << "f " << a << '/' << a << '/' << a << ' ' << d << '/' << d << '/' << d << ' ' << c << '/' << c << '/' << c
+          << ' ' << b << '/' << b << '/' << b << '\n';
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  long triangles = 1000000;
+  fs::path work = fs::temp_directory_path() / "b2o_bake_speed";
+  std::string converter = B2O_CONVERTER, cxx = "c++", include = B2O_INCLUDE;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string a = argv[i];
+    if (a == "--triangles") triangles = std::atol(argv[i + 1]);
+    else if (a == "--work") work = argv[i + 1];
+    else if (a == "--converter") converter = argv[i + 1];
+    else if (a == "--cxx") cxx = argv[i + 1];
+    else if (a == "--include") include = argv[i + 1];
+    else {
+      std::cerr << "bake_speed: unknown option " << a << "\n";
+      return 2;
+    }
+  }
+  if (triangles < 2) {
+    std::cerr << "bake_speed: --triangles must be >= 2\n";
+    return 2;
+  }
+  fs::remove_all(work);
+  fs::create_directories(work / "out");
+  const fs::path obj = work / "sheet.obj";
+  write_obj(obj, triangles);
+  std::cout << "model      " << obj.string() << " (" << fs::file_size(obj) / 1e6 << " MB)\n";
+
+  const Measure conv = timed("'" + converter + "' -a Sheet -r -t '" + (work / "out").string() + "' '" + obj.string() + "'",
+                             work / "convert.log");
+  if (conv.exit_code != 0) {
+    std::cerr << "bake_speed: the converter failed; see " << (work / "convert.log").string() << "\n";
+    return 1;
+  }
+  // Both generated sources in one compiler call, as a build would (-O2, the project's warnings).
+  const std::string out = (work / "out").string();
+  const Measure comp = timed("sh -c \"cd '" + out + "' && " + cxx + " -std=c++20 -O2 -Wall -Wextra -Wpedantic -Werror -I'" +
+                                 include + "' -I. -c sheet.cpp sheet.S\"",
+                             work / "compile.log");
+  if (comp.exit_code != 0) {
+    std::cerr << "bake_speed: compiling failed; see " << (work / "compile.log").string() << "\n";
+    return 1;
+  }
+  std::ifstream stats(work / "convert.log");
+  std::printf("triangles  %ld requested\n", triangles);
+  std::printf("convert    %6.2f s  %7.1f MB peak\n", conv.seconds, conv.peak_mb);
+  std::printf("compile    %6.2f s  %7.1f MB peak\n", comp.seconds, comp.peak_mb);
+  std::printf("total      %6.2f s  %7.1f MB peak (max of the two)\n", conv.seconds + comp.seconds,
+              std::max(conv.peak_mb, comp.peak_mb));
+  std::printf("bin        %.1f MB\n", static_cast<double>(fs::file_size(work / "out" / "sheet.bin")) / 1e6);
+  return 0;
+}
