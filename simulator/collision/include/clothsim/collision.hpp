@@ -103,7 +103,7 @@ struct ColliderSet {
   /// Bounding box of every kept triangle (empty box when none).
   Eigen::Vector3d bounds_min() const { return lo_; }
   Eigen::Vector3d bounds_max() const { return hi_; }
-  std::size_t bvh_node_count() const { return nodes_.size(); }
+  std::size_t bvh_node_count() const { return nodes4_.size(); }  ///< 4-wide nodes
 
   /// Per object, the closest kept triangle with distance <= radius. `out` must have
   /// object_count() entries; entries of objects with nothing in reach get object = -1.
@@ -132,6 +132,12 @@ struct ColliderSet {
     std::uint32_t index() const { return packed >> 3; }
     std::uint32_t count() const { return packed & 7u; }
   };
+  /// The binary tree collapsed to 4 children per node, the boxes stored lane by lane so that
+  /// one visit tests 4 boxes at once (vectorised). 256 bytes. Empty lanes never pass.
+  struct alignas(64) Node4 {
+    float c[3][4], h[3][4], a[9][4];
+    std::uint32_t child[4];  ///< Node::packed form: leaf triangles, or a Node4 index << 3
+  };
   /// One object's query; `hint` is an input triangle index or -1. Returns hit or invalid.
   ColliderHit query_object(std::size_t o, const double p[3], double radius_sq, QueryMethod method,
                            std::int32_t hint) const;
@@ -144,7 +150,8 @@ struct ColliderSet {
     std::size_t degenerate = 0;
     double scale = 0.0;  ///< largest |coordinate| of its kept triangles (rounding margins)
     std::uint32_t tri_begin = 0, tri_end = 0;  ///< kept triangles, BVH order
-    std::uint32_t root = 0;                    ///< node index (valid when tri_end > tri_begin)
+    std::uint32_t root = 0;                    ///< binary node index (valid when tri_end > tri_begin)
+    std::uint32_t root4 = 0;                   ///< its Node4 (or leaf) in Node::packed form
     std::vector<std::int32_t> input_to_kept;   ///< input triangle -> kept slot, -1 if dropped
   };
   std::uint32_t build_node(std::uint32_t begin, std::uint32_t end, std::vector<double>& cent,
@@ -156,7 +163,9 @@ struct ColliderSet {
   // Kept triangles, structure of arrays in BVH order: A, AB = B - A, AC = C - A, unit normal.
   std::vector<double> ax_, ay_, az_, bx_, by_, bz_, cx_, cy_, cz_, nx_, ny_, nz_;
   std::vector<std::int32_t> orig_;     ///< input triangle index within its object
-  std::vector<Node> nodes_;
+  std::uint32_t collapse(std::uint32_t binary);
+  std::vector<Node> nodes_;    ///< the binary tree (build, and each object's root box)
+  std::vector<Node4> nodes4_;  ///< what queries traverse
   Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), hi_ = Eigen::Vector3d::Zero();
 };
 
