@@ -49,7 +49,7 @@ TEST(Cli, HelpExitsZeroAndListsDefaultsAndTheSceneValues) {
   const Result r = run("--help");
   EXPECT_EQ(r.code, 0) << r.output;
   for (const char* s : {"--headless", "--seconds", "--steps", "--dt", "--k-struct", "--k-rep", "--report",
-                        "--export-obj", "--screenshot", "-step", "-wstiff", "1000", "9.81"})
+                        "--export-obj", "--screenshot", "-step", "-wstiff", "600", "9.81"})
     EXPECT_NE(r.output.find(s), std::string::npos) << "help lacks " << s;
 }
 

@@ -59,7 +59,7 @@ TEST(SkirtScene, LandsWrapsSlidesOffAndRestsOnTheFloor) {
 
   // at rest on the floor, in folds, off the sphere
   const double ke = kinetic_energy(m, s);
-  EXPECT_LT(ke, 0.05) << "still moving after 20 s";
+  EXPECT_LT(ke, 1e-3) << "still moving (or jittering) after 20 s";
   const double y_lo = s.x.row(1).minCoeff(), y_hi = s.x.row(1).maxCoeff();
   EXPECT_GE(y_lo, floor_y);
   EXPECT_LT(y_lo, floor_y + o.epsilon);
@@ -74,7 +74,7 @@ TEST(SkirtScene, LandsWrapsSlidesOffAndRestsOnTheFloor) {
 // the physics, the scene or the compiler's arithmetic change. To refresh after an intended
 // change: CLOTHSIM_PRINT_GOLDEN=1 ./scene_skirt_test --gtest_filter='*Golden*' and paste
 // the printed value here (and say why in the commit message).
-constexpr std::uint64_t kGoldenSkirt300 = 0xf58d75f3ab93bcd5ull;
+constexpr std::uint64_t kGoldenSkirt300 = 0x5d430962c79708feull;
 
 TEST(SkirtScene, GoldenHashAfter300Steps) {
   const Model m = build_model(scene(), scene_options(scene()));
