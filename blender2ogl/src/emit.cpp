@@ -227,7 +227,7 @@ std::string scene_init(const Scene& s, const Layout& L, const std::string& q) {
   return o.str();
 }
 
-std::string header(const Scene& s, const Options& opt, const Layout* text_layout) {
+std::string header(const Scene& s, const Options& opt, const Layout* text_layout, const std::string& bake_id) {
   const std::string guard = "B2O_GEN_" + upper(s.name) + "_H";
   const std::string ns = "b2o::gen::" + s.name;
   std::ostringstream h;
@@ -255,7 +255,11 @@ std::string header(const Scene& s, const Options& opt, const Layout* text_layout
     << "inline constexpr std::uint32_t texture_count = " << n(s.textures.size()) << ";\n"
     << "inline constexpr std::uint32_t cloth_count = " << n(s.cloths.size()) << ";\n"
     << "inline constexpr std::uint32_t param_count = " << n(s.params.size()) << ";\n"
-    << "inline constexpr bool has_vertex_mass = " << (opt.reverse_map ? "true" : "false") << ";\n\n";
+    << "inline constexpr bool has_vertex_mass = " << (opt.reverse_map ? "true" : "false") << ";\n";
+  if (!bake_id.empty())
+    h << "/// Ties this header to the " << s.name << ".cpp/.S/.bin of the same bake (checked when they build).\n"
+      << "inline constexpr std::uint64_t bake_id = 0x" << bake_id << "ull;\n";
+  h << "\n";
   h << "/// Indices into scene.objects.\nnamespace object {\n";
   for (std::size_t i = 0; i < s.objects.size(); ++i)
     h << "inline constexpr std::uint32_t " << s.objects[i].identifier << " = " << i << "u;  // "
@@ -310,11 +314,10 @@ std::vector<OutputFile> emit_scene(const Scene& s, const Options& opt) {
   std::vector<OutputFile> files;
   if (opt.combined) {
     const Layout L = collect(s, true);
-    files.push_back({s.name + ".h", header(s, opt, &L)});
+    files.push_back({s.name + ".h", header(s, opt, &L, "")});
     return files;
   }
   const Layout L = collect(s, false);
-  files.push_back({s.name + ".h", header(s, opt, nullptr)});
 
   std::size_t total = 0;
   for (const Array& a : L.arrays) total = (total + 15) / 16 * 16 + a.size;
@@ -328,26 +331,36 @@ std::vector<OutputFile> emit_scene(const Scene& s, const Options& opt) {
              << a.symbol << ":\n\t.incbin \"" << s.name << ".bin\", " << bin.size() << ", " << a.size << "\n";
     bin.append(static_cast<const char*>(a.data), a.size);
   }
+  // One id for the whole set: a header, source, .S and .bin from different bakes fail to build.
+  const std::string bin_hash = hash_hex(bin);
+  const std::string table_text = tables(s, L, "", "constexpr ") + scene_init(s, L, "");
+  const std::string id = hash_hex(bin_hash + table_text + header(s, opt, nullptr, ""));
+  const std::string check_symbol = sym_prefix(s) + "bake_" + id;
+  asm_body << "\t.globl " << check_symbol << "\n\t.type " << check_symbol << ", @object\n\t.size " << check_symbol
+           << ", 1\n" << check_symbol << ":\n\t.byte 0\n";
+  files.push_back({s.name + ".h", header(s, opt, nullptr, id)});
   std::ostringstream S;
   S << "/* " << s.name << ".S: bulk arrays of scene " << s.name << ", baked by blender2ogl " << kVersion << " from "
     << comment_safe(s.source) << ".\n"
     << "   Generated: do not edit. The bytes come from " << s.name << ".bin (found through -I<dir>);\n"
-    << "   " << s.name << ".bin: " << bin.size() << " bytes, fnv1a64 " << hash_hex(bin) << " */\n"
+    << "   " << s.name << ".bin: " << bin.size() << " bytes, fnv1a64 " << bin_hash << " */\n"
     << "\t.section .rodata.b2o." << s.name << ",\"a\",@progbits\n"
     << asm_body.str() << "\t.section .note.GNU-stack,\"\",@progbits\n";
 
   std::ostringstream c;
   c << "// " << s.name << ".cpp: tables of the scene baked by blender2ogl " << kVersion << " from "
     << comment_safe(s.source) << ".\n// Generated: do not edit.\n"
-    << "#include \"" << s.name << ".h\"\n\n";
-  if (!L.arrays.empty()) {
-    c << "// Bulk arrays, defined in " << s.name << ".S from the bytes of " << s.name << ".bin.\nextern \"C\" {\n";
-    for (const Array& a : L.arrays) c << "extern const " << a.type << " " << a.symbol << "[];\n";
-    c << "}\n\n";
-  }
+    << "#include \"" << s.name << ".h\"\n\n"
+    << "static_assert(b2o::gen::" << s.name << "::bake_id == 0x" << id << "ull,\n              \"" << s.name
+    << ".h and " << s.name << ".cpp come from different bakes; re-run blender2ogl\");\n\n";
+  c << "// Bulk arrays, defined in " << s.name << ".S from the bytes of " << s.name << ".bin; the last symbol\n"
+    << "// exists only in the .S of the same bake (a mixed set fails to link).\nextern \"C\" {\n";
+  for (const Array& a : L.arrays) c << "extern const " << a.type << " " << a.symbol << "[];\n";
+  c << "extern const unsigned char " << check_symbol << "[];\n}\n\n";
   c << "namespace b2o::gen::" << s.name << " {\nnamespace {\n" << tables(s, L, "", "constexpr ")
-    << "}  // namespace\n\nconst ::b2o::Scene scene = " << scene_init(s, L, "") << ";\n\n}  // namespace b2o::gen::"
-    << s.name << "\n";
+    << "}  // namespace\n\nconst ::b2o::Scene scene = " << scene_init(s, L, "") << ";\n\n"
+    << "extern const unsigned char* const bake_check;\nconst unsigned char* const bake_check = " << check_symbol
+    << ";\n\n}  // namespace b2o::gen::" << s.name << "\n";
   files.push_back({s.name + ".cpp", c.str()});
   files.push_back({s.name + ".S", S.str()});
   files.push_back({s.name + ".bin", std::move(bin)});

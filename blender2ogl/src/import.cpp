@@ -116,12 +116,23 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
   if (is_obj) {
     scan = prescan_obj_file(file);
     out.timings_ms.emplace_back("pre-scan", lap_ms(t0));
-    for (const auto& lib : scan.mtllibs) {
+    for (std::size_t i = 0; i < scan.mtllibs.size(); ++i) {
+      const std::string& lib = scan.mtllibs[i];
       const auto p = folder / lib;
-      if (!std::filesystem::is_regular_file(p, ec))
+      if (!std::filesystem::exists(p, ec)) {
         out.warnings.push_back(file.string() + ": material library '" + lib + "' not found; its objects get a default material");
-      else
-        out.inputs_read.push_back(std::filesystem::absolute(p));
+        continue;
+      }
+      // assimp would fail on it with a message that names no file
+      if (!std::filesystem::is_regular_file(p, ec) || !std::ifstream(p, std::ios::binary))
+        throw InputError(file.string() + ":" + std::to_string(scan.mtllib_lines[i]) + ": material library '" + lib +
+                         "' is not a readable file");
+      try {
+        prescan_mtl_file(p);
+      } catch (const InputError& e) {
+        throw InputError(std::string(e.what()) + " (material library of " + file.filename().string() + ")");
+      }
+      out.inputs_read.push_back(std::filesystem::absolute(p));
     }
     if (scan.lines_points > 0)
       out.warnings.push_back(file.string() + ": " + std::to_string(scan.lines_points) +

@@ -224,11 +224,56 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       while (!name.empty() && (name.front() == ' ' || name.front() == '\t')) name.erase(0, 1);
       while (!name.empty() && (name.back() == ' ' || name.back() == '\t' || name.back() == '\r')) name.pop_back();
       scan.mtllibs.push_back(name);
+      scan.mtllib_lines.push_back(start_line);
     }
   }
   if (scan.positions == 0) throw InputError(file.string() + ": no vertices (empty or not an OBJ file)");
   if (scan.faces == 0) throw InputError(file.string() + ": no faces: nothing to draw (points and lines are not supported)");
   return scan;
+}
+
+void prescan_mtl_file(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file.string() + ": cannot open: " + std::strerror(errno));
+  std::string line;
+  std::size_t line_no = 0;
+  bool in_material = false;
+  while (std::getline(in, line)) {
+    ++line_no;
+    std::vector<std::string_view> tok;
+    std::size_t start = std::string::npos;
+    for (std::size_t i = 0; i <= line.size(); ++i) {
+      const unsigned char c = i < line.size() ? static_cast<unsigned char>(line[i]) : ' ';
+      if (c < 0x20 && c != '\t' && c != '\r' && c != '\f' && c != '\v') {
+        const char* hex = "0123456789abcdef";
+        fail(file, line_no, std::string("binary data (byte 0x") + hex[c >> 4] + hex[c & 15] + ") in a material file");
+      }
+      const bool space = c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+      if (!space && start == std::string::npos) start = i;
+      if (space && start != std::string::npos) {
+        tok.emplace_back(line.data() + start, i - start);
+        start = std::string::npos;
+      }
+    }
+    if (tok.empty() || tok[0][0] == '#') continue;
+    const std::string_view key = tok[0];
+    if (key == "newmtl") {
+      in_material = true;
+      continue;
+    }
+    if (!in_material) fail(file, line_no, "'" + std::string(key) + "' before any 'newmtl'");
+    if (key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf" || key == "Ns" || key == "d" ||
+        key == "Tr" || key == "Ni") {
+      for (std::size_t k = 1; k < tok.size(); ++k) {
+        double v = 0;
+        if (parse_number(tok[k], v)) {
+          if (!std::isfinite(v)) fail(file, line_no, "number out of range '" + std::string(tok[k]) + "'");
+        } else if (is_number_like(tok[k])) {
+          fail(file, line_no, "non-finite value '" + std::string(tok[k]) + "'");
+        }
+      }
+    }
+  }
 }
 
 bool is_pin_object_name(const std::string& name) {

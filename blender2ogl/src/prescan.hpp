@@ -10,6 +10,7 @@ namespace b2o::conv {
 struct ObjScan {
   std::size_t positions = 0, texcoords = 0, normals = 0, faces = 0, lines_points = 0, groups = 0;
   std::vector<std::string> mtllibs;
+  std::vector<std::size_t> mtllib_lines;
   /// Vertices written under an `o`/`g` named `<OBJECT>_pins` or `<OBJECT>.pins` (x y z ...):
   /// assimp drops objects without faces, so pin helpers made of loose vertices are read here.
   std::map<std::string, std::vector<float>> pin_points;
@@ -17,6 +18,10 @@ struct ObjScan {
 
 /// Throws InputError ("file:line: what") on text assimp would misread.
 ObjScan prescan_obj_file(const std::filesystem::path& file);
+
+/// Checks a .mtl the same way (assimp 5.2.5 crashes on a statement before the first
+/// `newmtl`). Throws InputError ("file:line: what").
+void prescan_mtl_file(const std::filesystem::path& file);
 
 bool is_pin_object_name(const std::string& name);
 /// "Cloth_pins" -> "Cloth"

@@ -41,7 +41,17 @@ int write_outputs(const std::filesystem::path& dir, const std::vector<OutputFile
     for (const auto& [tmp, final_path] : pending) fs::remove(tmp, ec);
     if (created_dir) fs::remove(dir, ec);
   };
+  // Anything but a regular file in an output's place fails before anything is written.
   for (const OutputFile& f : files) {
+    const fs::path final_path = dir / f.name;
+    if (fs::exists(fs::symlink_status(final_path, ec)) && !fs::is_regular_file(fs::symlink_status(final_path, ec))) {
+      cleanup();
+      throw InputError(final_path.string() + ": cannot write: something other than a file is in the way");
+    }
+  }
+  // Published in reverse order: the header, which the build and readers start from, last.
+  for (auto it = files.rbegin(); it != files.rend(); ++it) {
+    const OutputFile& f = *it;
     const fs::path final_path = dir / f.name;
     if (same_bytes(final_path, f.bytes)) continue;
     const fs::path tmp = dir / ("." + f.name + ".tmp" + std::to_string(::getpid()) + "." + std::to_string(counter++));

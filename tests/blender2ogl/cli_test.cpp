@@ -88,3 +88,43 @@ TEST(Cli, HelpVersionAndStatistics) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace b2o::test;
+
+// assimp 5.2.5 crashes on a .mtl statement before the first newmtl: refused with file:line.
+TEST(Cli, MtlProblemsAreRefusedWithTheirFileAndLine) {
+  const auto dir = scratch("cli_mtl");
+  write_file(dir / "a.obj", "mtllib a.mtl\no Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl M\nf 1 2 3\n");
+  write_file(dir / "a.mtl", "# comment\nmap_Kd tex.png\nnewmtl M\n");
+  auto r = run_converter({"-t", (dir / "out").string(), (dir / "a.obj").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "a.mtl").string() + ":2: 'map_Kd' before any 'newmtl'"), std::string::npos) << r.output;
+  write_file(dir / "a.mtl", "newmtl M\nKd 1 nan 0\n");
+  r = run_converter({"-t", (dir / "out").string(), (dir / "a.obj").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "a.mtl").string() + ":2: non-finite value 'nan'"), std::string::npos) << r.output;
+  fs::remove(dir / "a.mtl");
+  fs::create_directory(dir / "a.mtl");
+  r = run_converter({"-t", (dir / "out").string(), (dir / "a.obj").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "a.obj").string() + ":1: material library 'a.mtl' is not a readable file"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(Cli, FolderInAnOutputsPlaceChangesNothing) {
+  const auto dir = scratch("cli_taken");
+  ASSERT_EQ(run_converter({"-t", dir.string(), fixture("plain.obj").string()}).exit_code, 0);
+  fs::remove(dir / "plain.bin");
+  fs::create_directory(dir / "plain.bin");
+  const auto before = snapshot(dir);
+  const auto r = run_converter({"-a", "plain", "-t", dir.string(), fixture("plain.obj").string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find((dir / "plain.bin").string() + ": cannot write"), std::string::npos) << r.output;
+  EXPECT_EQ(snapshot(dir), before);
+}
+
+}  // namespace

@@ -74,4 +74,9 @@ b2o_grid_cloth0_triangles:
 	.size b2o_grid_cloth0_pins, 8
 b2o_grid_cloth0_pins:
 	.incbin "grid.bin", 1392, 8
+	.globl b2o_grid_bake_61e2c840d54b2dd6
+	.type b2o_grid_bake_61e2c840d54b2dd6, @object
+	.size b2o_grid_bake_61e2c840d54b2dd6, 1
+b2o_grid_bake_61e2c840d54b2dd6:
+	.byte 0
 	.section .note.GNU-stack,"",@progbits

@@ -2,7 +2,11 @@
 // Generated: do not edit.
 #include "grid.h"
 
-// Bulk arrays, defined in grid.S from the bytes of grid.bin.
+static_assert(b2o::gen::grid::bake_id == 0x61e2c840d54b2dd6ull,
+              "grid.h and grid.cpp come from different bakes; re-run blender2ogl");
+
+// Bulk arrays, defined in grid.S from the bytes of grid.bin; the last symbol
+// exists only in the .S of the same bake (a mixed set fails to link).
 extern "C" {
 extern const float b2o_grid_positions[];
 extern const float b2o_grid_normals[];
@@ -16,6 +20,7 @@ extern const std::uint32_t b2o_grid_cloth0_vertex_mass[];
 extern const ::b2o::Spring b2o_grid_cloth0_springs[];
 extern const std::uint32_t b2o_grid_cloth0_triangles[];
 extern const std::uint32_t b2o_grid_cloth0_pins[];
+extern const unsigned char b2o_grid_bake_61e2c840d54b2dd6[];
 }
 
 namespace b2o::gen::grid {
@@ -56,5 +61,8 @@ const ::b2o::Scene scene = {
     1u, kCloths,
     2u, kParams,
 };
+
+extern const unsigned char* const bake_check;
+const unsigned char* const bake_check = b2o_grid_bake_61e2c840d54b2dd6;
 
 }  // namespace b2o::gen::grid

@@ -28,6 +28,8 @@ inline constexpr std::uint32_t texture_count = 1u;
 inline constexpr std::uint32_t cloth_count = 1u;
 inline constexpr std::uint32_t param_count = 2u;
 inline constexpr bool has_vertex_mass = true;
+/// Ties this header to the grid.cpp/.S/.bin of the same bake (checked when they build).
+inline constexpr std::uint64_t bake_id = 0x61e2c840d54b2dd6ull;
 
 /// Indices into scene.objects.
 namespace object {

@@ -56,4 +56,9 @@ b2o_ngons_cloth0_springs:
 	.size b2o_ngons_cloth0_triangles, 24
 b2o_ngons_cloth0_triangles:
 	.incbin "ngons.bin", 656, 24
+	.globl b2o_ngons_bake_458f1accc7c24307
+	.type b2o_ngons_bake_458f1accc7c24307, @object
+	.size b2o_ngons_bake_458f1accc7c24307, 1
+b2o_ngons_bake_458f1accc7c24307:
+	.byte 0
 	.section .note.GNU-stack,"",@progbits

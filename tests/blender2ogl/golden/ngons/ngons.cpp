@@ -2,7 +2,11 @@
 // Generated: do not edit.
 #include "ngons.h"
 
-// Bulk arrays, defined in ngons.S from the bytes of ngons.bin.
+static_assert(b2o::gen::ngons::bake_id == 0x458f1accc7c24307ull,
+              "ngons.h and ngons.cpp come from different bakes; re-run blender2ogl");
+
+// Bulk arrays, defined in ngons.S from the bytes of ngons.bin; the last symbol
+// exists only in the .S of the same bake (a mixed set fails to link).
 extern "C" {
 extern const float b2o_ngons_positions[];
 extern const float b2o_ngons_normals[];
@@ -13,6 +17,7 @@ extern const std::uint32_t b2o_ngons_cloth0_mass_vertex_offsets[];
 extern const std::uint32_t b2o_ngons_cloth0_mass_vertices[];
 extern const ::b2o::Spring b2o_ngons_cloth0_springs[];
 extern const std::uint32_t b2o_ngons_cloth0_triangles[];
+extern const unsigned char b2o_ngons_bake_458f1accc7c24307[];
 }
 
 namespace b2o::gen::ngons {
@@ -47,5 +52,8 @@ const ::b2o::Scene scene = {
     1u, kCloths,
     0u, nullptr,
 };
+
+extern const unsigned char* const bake_check;
+const unsigned char* const bake_check = b2o_ngons_bake_458f1accc7c24307;
 
 }  // namespace b2o::gen::ngons

@@ -28,6 +28,8 @@ inline constexpr std::uint32_t texture_count = 0u;
 inline constexpr std::uint32_t cloth_count = 1u;
 inline constexpr std::uint32_t param_count = 0u;
 inline constexpr bool has_vertex_mass = false;
+/// Ties this header to the ngons.cpp/.S/.bin of the same bake (checked when they build).
+inline constexpr std::uint64_t bake_id = 0x458f1accc7c24307ull;
 
 /// Indices into scene.objects.
 namespace object {
