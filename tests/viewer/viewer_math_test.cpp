@@ -198,8 +198,8 @@ TEST(Framing, CoversTheClothAndTheFloorBelowButNotTheWholeFloor) {
   cv::framing_box(h.scene, model, lo, hi);
   EXPECT_NEAR(lo.y(), 0.0, 1e-6);           // the floor's height is in
   EXPECT_NEAR(hi.y(), 1.2 + 0.15 * 0.8, 1e-5);
-  EXPECT_NEAR(lo.x(), -1.2, 1e-6);          // the floor's width is clipped to 1.5x the cloth
-  EXPECT_NEAR(hi.z(), 1.2, 1e-6);
+  EXPECT_NEAR(lo.x(), -0.88, 1e-6);         // the floor's width is clipped to 1.1x the cloth
+  EXPECT_NEAR(hi.z(), 0.88, 1e-6);
 }
 
 TEST(Picking, RayFromAboveHitsTheMassUnderIt) {

@@ -13,10 +13,21 @@ constexpr double kMaxPitch = 1.55;  // just short of straight down/up, so the vi
 void OrbitCamera::frame(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double aspect) {
   target = 0.5 * (lo + hi);
   const double radius = std::max(0.5 * (hi - lo).norm(), 1e-3);
-  // The narrower of the two fields of view decides how far back the sphere around the box fits.
-  const double half_v = 0.5 * fovy;
-  const double half_h = std::atan(std::tan(half_v) * std::max(aspect, 1e-3));
-  distance = radius / std::sin(std::min(half_v, half_h));
+  const double tan_v = std::tan(0.5 * fovy), tan_h = tan_v * std::max(aspect, 1e-3);
+  const Eigen::Vector3d f = forward();
+  const Eigen::Vector3d s = f.cross(Eigen::Vector3d::UnitY()).normalized();
+  const Eigen::Vector3d u = s.cross(f);
+  // The nearest distance at which every corner of the box projects inside the picture
+  // (tighter than fitting the bounding sphere), plus a small margin.
+  distance = 1e-3;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d r = Eigen::Vector3d((corner & 1) ? hi.x() : lo.x(), (corner & 2) ? hi.y() : lo.y(),
+                                              (corner & 4) ? hi.z() : lo.z()) - target;
+    const double depth = r.dot(f);  // > 0: beyond the target
+    distance = std::max(distance, -depth + std::abs(r.dot(s)) / tan_h);
+    distance = std::max(distance, -depth + std::abs(r.dot(u)) / tan_v);
+  }
+  distance *= 1.08;
   near_plane = std::max(distance - 4.0 * radius, distance * 1e-3);
   far_plane = distance + 20.0 * radius;
 }

@@ -92,7 +92,7 @@ void framing_box(const b2o::Scene& scene, const Model& model, Eigen::Vector3d& l
   const bool have_cloth = lo.x() <= hi.x();
   Eigen::Vector3d c_lo = lo, c_hi = hi;
   if (have_cloth) {  // the horizontal window in which colliders count
-    const Eigen::Vector3d mid = 0.5 * (lo + hi), half = 0.75 * (hi - lo);
+    const Eigen::Vector3d mid = 0.5 * (lo + hi), half = 0.55 * (hi - lo);
     c_lo = mid - half;
     c_hi = mid + half;
   }

@@ -15,6 +15,7 @@
 #include <GL/glew.h>
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -181,6 +182,12 @@ class Viewer {
         if (single_step_) n = 1;
       }
       single_step_ = false;
+      if (opt_.seconds >= 0.0) {  // a timed run: stop exactly at the requested time
+        const double dt = model_.options.dt;
+        const long left = static_cast<long>(std::llround((opt_.seconds - state_.t) / dt));
+        n = std::min(n, std::max(left, 0L));
+        if (left <= 0) glfwSetWindowShouldClose(window_, GLFW_TRUE);
+      }
       if (n > 0) {
         update_drag_target();
         const auto t0 = Clock::now();
@@ -220,7 +227,9 @@ class Viewer {
         window_step_time = 0.0;
       }
     }
-    return 0;
+    std::printf("clothsim: viewer closed at t = %.2f s after %llu steps%s\n", state_.t,
+                static_cast<unsigned long long>(state_.steps), non_finite_ ? " (state non-finite)" : "");
+    return non_finite_ ? 1 : 0;
   }
 
   void update_title(double steps_per_s, double ms_per_step, double realtime) {

@@ -16,7 +16,8 @@ struct ViewerOptions {
   std::string screenshot;       ///< non-empty: render at `seconds`, write this PNG, exit
   std::string frames_dir;       ///< non-empty: write a PNG sequence at `fps` up to `seconds`
   int fps = 30;
-  double seconds = -1.0;        ///< simulated seconds for screenshot/frames; < 0: run until closed
+  double seconds = -1.0;        ///< simulated seconds for screenshot/frames; in the window: close at
+                                ///< this simulated time (real-time pace); < 0: run until closed
   // --- additions of the viewer (issue 4) ---
   bool flat_cloth = false;      ///< test mode: cloth drawn unlit in kFlatClothRgb, no texture
   bool hide_cloth = false;      ///< test mode: draw the colliders only

@@ -29,7 +29,7 @@ class OrbitCamera {
   Eigen::Vector3d target = Eigen::Vector3d::Zero();
   double distance = 5.0;
   double yaw = 0.5;      ///< rad, around +Y
-  double pitch = 0.45;   ///< rad, > 0 looks down on the target
+  double pitch = 0.3;    ///< rad, > 0 looks down on the target
   double fovy = 0.7854;  ///< rad, vertical field of view
   double near_plane = 0.01, far_plane = 100.0;
 };
