@@ -14,6 +14,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -329,6 +330,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     r["version"] = CLOTHSIM_VERSION;
     r["masses"] = model.mass_count();
     r["springs"] = model.spring_count();
+    r["bend_springs"] = std::count(model.spring_kind.begin(), model.spring_kind.end(), std::uint8_t{1});
     r["collider_triangles"] = collider_triangle_count(model);
     r["dt"] = opts.dt;
     r["steps"] = state.steps;
