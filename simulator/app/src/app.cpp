@@ -225,8 +225,8 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   if (o_eps->count()) opts.epsilon = epsilon;
   if (o_krep->count()) opts.k_rep = k_rep;
   if (const std::string why = validate_options(opts); !why.empty()) return bad_input(why);
-  if (o_seconds->count() && !(std::isfinite(seconds) && seconds > 0.0))
-    return bad_input("--seconds must be a finite number > 0 (got " + fmt(seconds) + ")");
+  if (o_seconds->count() && !(std::isfinite(seconds) && seconds >= 0.0))
+    return bad_input("--seconds must be a finite number >= 0 (got " + fmt(seconds) + ")");
   if (o_steps->count() && steps == 0) return bad_input("--steps must be > 0");
   if (!report.empty()) {
     const fs::path parent = fs::path(report).parent_path();
@@ -268,7 +268,6 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
 
   const std::uint64_t total =
       o_steps->count() ? steps : static_cast<std::uint64_t>(std::llround(seconds / opts.dt));
-  if (total == 0) return bad_input("--seconds " + fmt(seconds) + " is less than one step of " + fmt(opts.dt) + " s");
 
   const fs::path export_path = export_dir;
   if (o_export->count()) {
