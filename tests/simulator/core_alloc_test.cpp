@@ -1,0 +1,52 @@
+// step() never allocates: this executable replaces the global operator new and counts.
+#include "inline_scenes.hpp"
+
+#include <clothsim/collision.hpp>
+#include <clothsim/step.hpp>
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+namespace {
+std::atomic<long> g_allocations{0};
+}
+
+void* operator new(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace clothsim {
+namespace {
+
+TEST(Step, NeverAllocates) {
+  Options o;
+  ModelBuilder mb(o, "grid on a floor");
+  const auto springs = test::grid_springs(10, 10);
+  mb.add_cloth(test::grid_positions(10, 10, 0.1, 0.3), springs, std::vector<std::uint32_t>{0});
+  auto floor = std::make_shared<ColliderSet>();
+  Eigen::Matrix3Xd fv(3, 4);
+  fv << -5, 5, 5, -5, 0, 0, 0, 0, -5, -5, 5, 5;
+  floor->add_object("floor", fv, std::vector<std::uint32_t>{0, 2, 1, 0, 3, 2});
+  floor->build();
+  mb.set_colliders(floor);
+  const Model m = mb.build();
+  State s = make_state(m);
+  const long at_start = g_allocations.load();
+  Workspace ws = make_workspace(m);
+  ASSERT_GT(g_allocations.load() - at_start, 0) << "the counter works: make_workspace allocates";
+  s.drag = Drag{55, Eigen::Vector3d(0.5, 1.0, 0.5), 5.0};
+  step(m, s, ws);  // warm-up
+  const long before = g_allocations.load();
+  for (int i = 0; i < 200; ++i) ASSERT_TRUE(step(m, s, ws).finite);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_GT(ws.last_contacts, 0u);  // the floor was touched, so the penalty path ran
+}
+
+}  // namespace
+}  // namespace clothsim
