@@ -3,11 +3,15 @@
 //   clothsim_wp --fast --out build/wp-smoke        a short smoke run (ctest)
 #include <clothsim/integrators.hpp>
 #include <clothsim/scene.hpp>
+#include <clothsim/stability.hpp>
+#include <clothsim/step.hpp>
 #include <clothsim/workprecision.hpp>
 
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <ctime>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -42,6 +46,64 @@ std::vector<SceneEntry> baked_scenes() {
   return s;
 }
 
+double cpu_now() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// CPU seconds per symplectic Euler step (min of 5 runs of 200 steps after a warm-up).
+double seconds_per_step(const clothsim::Model& m) {
+  double best = 1e300;
+  for (int r = 0; r < 6; ++r) {
+    clothsim::State s = clothsim::make_state(m);
+    clothsim::Workspace ws = clothsim::make_workspace(m);
+    const double t0 = cpu_now();
+    for (int i = 0; i < 200; ++i) clothsim::step(m, s, ws);
+    if (r > 0) best = std::min(best, (cpu_now() - t0) / 200.0);
+  }
+  return best;
+}
+
+clothsim::Model without_bend_springs(const clothsim::Model& m) {
+  clothsim::Model out = m;
+  out.spring_a.clear();
+  out.spring_b.clear();
+  out.spring_kind.clear();
+  std::vector<double> rest, k;
+  for (std::size_t s = 0; s < m.spring_count(); ++s)
+    if (m.spring_kind[s] == 0) {
+      out.spring_a.push_back(m.spring_a[s]);
+      out.spring_b.push_back(m.spring_b[s]);
+      out.spring_kind.push_back(0);
+      rest.push_back(m.rest_length0[static_cast<Eigen::Index>(s)]);
+      k.push_back(m.stiffness[static_cast<Eigen::Index>(s)]);
+    }
+  out.rest_length0 = Eigen::Map<Eigen::VectorXd>(rest.data(), static_cast<Eigen::Index>(rest.size()));
+  out.stiffness = Eigen::Map<Eigen::VectorXd>(k.data(), static_cast<Eigen::Index>(k.size()));
+  out.cloths.clear();  // the ranges no longer hold; nothing below needs them
+  return out;
+}
+
+// "Model only what a scene needs": the cost of each modelled part, measured.
+void model_cost(const SceneEntry& e) {
+  const clothsim::Model full = clothsim::build_model(*e.scene, clothsim::scene_options(*e.scene));
+  clothsim::Model no_bend = without_bend_springs(full);
+  clothsim::Model no_coll = full;
+  no_coll.colliders = nullptr;
+  std::cout << "== " << e.name << ": " << full.mass_count() << " masses, " << full.spring_count()
+            << " springs (" << no_bend.spring_count() << " structural)\n";
+  std::cout << std::left << std::setw(26) << "variant" << std::setw(16) << "us per step" << std::setw(16)
+            << "omega_max" << "dt_stable (symplectic Euler)\n";
+  for (const auto& [name, m] : {std::pair<const char*, const clothsim::Model*>{"full", &full},
+                                {"no bend springs", &no_bend},
+                                {"no colliders", &no_coll}}) {
+    const auto r = clothsim::analyse_stability(*m);
+    std::cout << std::setw(26) << name << std::setw(16) << std::setprecision(4) << 1e6 * seconds_per_step(*m)
+              << std::setw(16) << r.omega_max << r.dt_stable_symplectic << " s\n";
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -56,6 +118,11 @@ int main(int argc, char** argv) {
   app.add_option("--integrators", methods, "integrators (default: all): " + clothsim::integrator_names())
       ->delimiter(',');
   app.add_flag("--fast", fast, "smoke run: short horizon, 3 levels, 1 repeat");
+  bool cost = false;
+  double stiffness_scale = 1.0;
+  app.add_option("--stiffness-scale", stiffness_scale, "multiply every spring's stiffness (stiffer cloth)")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--model-cost", cost, "instead: time per step and dt_stable with and without bend springs / colliders");
   app.add_option("--horizon", horizon, "simulated seconds per run (default per scene)")->check(CLI::PositiveNumber);
   app.add_option("--levels", levels, "number of halved dt per method (default 8)")->check(CLI::Range(2, 16));
   app.add_option("--repeats", repeats, "timed runs after the warm-up (default 3)")->check(CLI::Range(1, 20));
@@ -96,15 +163,26 @@ int main(int argc, char** argv) {
   if (todo.empty()) todo = all;
 
   int status = 0;
+  if (cost) {
+    for (const auto& e : todo) model_cost(e);
+    return 0;
+  }
   try {
     for (const auto& e : todo) {
       clothsim::wp::Settings s = settings;
       s.horizon = horizon > 0.0 ? horizon : (fast ? 0.05 : e.horizon);
-      const clothsim::Model model = clothsim::build_model(*e.scene, clothsim::scene_options(*e.scene));
-      const auto result = clothsim::wp::run(model, e.name, s, std::cerr);
+      clothsim::Model model = clothsim::build_model(*e.scene, clothsim::scene_options(*e.scene));
+      std::string label = e.name;
+      if (stiffness_scale != 1.0) {
+        model.stiffness *= stiffness_scale;
+        std::ostringstream o;
+        o << e.name << "_k" << stiffness_scale;
+        label = o.str();
+      }
+      const auto result = clothsim::wp::run(model, label, s, std::cerr);
       clothsim::wp::write_outputs(result, out_dir);
       clothsim::wp::print_summary(result, std::cout);
-      std::cout << "wrote " << out_dir << "/" << e.name << ".csv and .svg\n" << std::flush;
+      std::cout << "wrote " << out_dir << "/" << label << ".csv and .svg\n" << std::flush;
       // a point flagged finite must carry a finite error (never a NaN passed on silently)
       for (const auto& p : result.points)
         if (p.finite && !std::isfinite(p.error)) status = 1;

@@ -165,7 +165,8 @@ Result run(const Model& model, const std::string& scene, const Settings& s, std:
       } else {
         p.error = kNaN;
       }
-      p.resolved = p.finite && p.error >= 10.0 * r.ref_check;
+      // shown: above the reference's accuracy, below 100 % of the cloth's size (a blow-up)
+      p.resolved = p.finite && p.error >= 10.0 * r.ref_check && p.error <= 1.0;
       r.points.push_back(p);
       ++done;
       progress << "[" << scene << " " << done << "/" << total << "] " << std::left << std::setw(17)
@@ -206,6 +207,7 @@ Result run(const Model& model, const std::string& scene, const Settings& s, std:
     ms.order = n > 0 ? sum / n : kNaN;
     ms.time_1pc = time_to(pts, 1e-2, ms.bound_1pc);
     ms.time_01pc = time_to(pts, 1e-3, ms.bound_01pc);
+    ms.time_1e4 = time_to(pts, 1e-4, ms.bound_1e4);
     if (!std::isnan(ms.time_1pc) && (std::isnan(best) || ms.time_1pc < best)) {
       best = ms.time_1pc;
       r.best_1pc = m;
@@ -213,6 +215,18 @@ Result run(const Model& model, const std::string& scene, const Settings& s, std:
     r.summary.push_back(ms);
   }
   r.speedup_1pc = std::isnan(best) ? kNaN : r.se_limit_seconds / best;
+  // at a tighter error, equal error for both: symplectic Euler's own curve vs the best other
+  double se = kNaN, other = kNaN;
+  for (const MethodSummary& ms : r.summary) {
+    if (std::isnan(ms.time_1e4)) continue;
+    if (ms.method == Integrator::SymplecticEuler) {
+      se = ms.time_1e4;
+    } else if (std::isnan(other) || ms.time_1e4 < other) {
+      other = ms.time_1e4;
+      r.best_1e4 = ms.method;
+    }
+  }
+  r.speedup_1e4 = se / other;
   return r;
 }
 
@@ -223,13 +237,16 @@ void print_summary(const Result& r, std::ostream& out) {
       << "; smallest error shown " << fmt(r.smallest_error) << " -> "
       << (r.ref_check < 0.1 * r.smallest_error ? "OK (< 1/10)" : "NOT OK (>= 1/10)") << "\n";
   out << std::left << std::setw(18) << "method" << std::setw(10) << "order" << std::setw(16)
-      << "cpu to 1 %" << "cpu to 0.1 %\n";
+      << "cpu to 1 %" << std::setw(16) << "cpu to 0.1 %" << "cpu to 1e-4\n";
   for (const MethodSummary& m : r.summary)
     out << std::setw(18) << to_string(m.method) << std::setw(10) << fmt(m.order, 3) << std::setw(16)
         << (std::isnan(m.time_1pc) ? std::string("not reached")
                                    : (m.bound_1pc ? "<= " : "") + fmt(m.time_1pc) + " s")
+        << std::setw(16)
         << (std::isnan(m.time_01pc) ? std::string("not reached")
                                     : (m.bound_01pc ? "<= " : "") + fmt(m.time_01pc) + " s")
+        << (std::isnan(m.time_1e4) ? std::string("not reached")
+                                   : (m.bound_1e4 ? "<= " : "") + fmt(m.time_1e4) + " s")
         << "\n";
   out << "symplectic Euler at 0.95 dt_stable: error " << fmt(r.se_limit_error) << ", cpu "
       << fmt(r.se_limit_seconds) << " s\n";
@@ -239,6 +256,9 @@ void print_summary(const Result& r, std::ostream& out) {
     out << "target: best at 1 % is " << to_string(r.best_1pc) << ", " << fmt(r.speedup_1pc)
         << "x less cpu than symplectic Euler at its limit -> "
         << (r.speedup_1pc >= 10.0 ? "met" : "NOT met") << " (>= 10x)\n";
+  if (!std::isnan(r.speedup_1e4))
+    out << "at equal error 1e-4: best is " << to_string(r.best_1e4) << ", " << fmt(r.speedup_1e4)
+        << "x less cpu than symplectic Euler\n";
 }
 
 namespace {
