@@ -80,6 +80,14 @@ TEST(Cli, BadValuesExitTwoWithAMessageAndWriteNothing) {
   EXPECT_TRUE(fs::is_empty(d));
 }
 
+TEST(Cli, ReportIntoAMissingFolderIsRefusedBeforeRunning) {
+  const fs::path d = fresh_dir("missing");
+  const Result r = run("--headless --report '" + (d / "no" / "r.json").string() + "'");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("does not exist"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_empty(d));
+}
+
 TEST(Cli, ReportHasTheKeys) {
   const fs::path d = fresh_dir("report");
   const Result r = run("--headless --quiet --steps 50 --report '" + (d / "r.json").string() + "'");
