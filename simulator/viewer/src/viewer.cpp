@@ -72,6 +72,8 @@ class Viewer {
       : scene_(scene), model_(model), opt_(opt), state_(make_state(model)),
         ws_(make_workspace(model)), clock_(model.options.dt, opt.max_work_per_frame) {
     paused_ = opt.paused;
+    wireframe_ = opt.wireframe;
+    show_springs_ = opt.show_springs;
   }
 
   int run(GLFWwindow* window) {
@@ -108,7 +110,7 @@ class Viewer {
   }
 
   bool render_to_png(const std::string& path) {
-    gpu_.upload_state(scene_, model_, state_, false);
+    gpu_.upload_state(scene_, model_, state_, show_springs_);
     render();
     std::vector<unsigned char> rgb = gpu_.target.read_rgb();
     std::string err = view::write_png(path, gpu_.target.width, gpu_.target.height, rgb);
@@ -165,6 +167,10 @@ class Viewer {
     });
 
     auto last = Clock::now();
+    const auto run_start = last;
+    double total_step_time = 0.0;
+    std::uint64_t total_steps = 0;
+    long frames = 0;
     auto window_start = last;
     double window_sim_start = state_.t, window_step_time = 0.0;
     std::uint64_t window_steps = 0;
@@ -206,6 +212,8 @@ class Viewer {
         }
         window_steps += static_cast<std::uint64_t>(done);
         window_step_time += spent;
+        total_steps += static_cast<std::uint64_t>(done);
+        total_step_time += spent;
       }
       if (!non_finite_) gpu_.upload_state(scene_, model_, state_, show_springs_ || dragging_);
       render();
@@ -215,6 +223,7 @@ class Viewer {
         save_numbered_screenshot();
       }
       glfwSwapBuffers(window_);
+      ++frames;
 
       const double wall = std::chrono::duration<double>(Clock::now() - window_start).count();
       if (wall >= 0.5) {
@@ -227,8 +236,13 @@ class Viewer {
         window_step_time = 0.0;
       }
     }
-    std::printf("clothsim: viewer closed at t = %.2f s after %llu steps%s\n", state_.t,
-                static_cast<unsigned long long>(state_.steps), non_finite_ ? " (state non-finite)" : "");
+    const double wall = std::chrono::duration<double>(Clock::now() - run_start).count();
+    std::printf("clothsim: viewer closed at t = %.2f s after %llu steps (%.3f ms/step, %.2fx real "
+                "time over %.2f s, %ld frames)%s\n",
+                state_.t, static_cast<unsigned long long>(state_.steps),
+                total_steps ? 1e3 * total_step_time / static_cast<double>(total_steps) : 0.0,
+                wall > 0.0 ? state_.t / wall : 0.0, wall, frames,
+                non_finite_ ? " (state non-finite)" : "");
     return non_finite_ ? 1 : 0;
   }
 
@@ -397,14 +411,23 @@ std::string check_options(const ViewerOptions& o) {
 
 int run_viewer(const b2o::Scene& scene, const Model& model, const ViewerOptions& given) {
   ViewerOptions options = given;
-  // The test modes can also be switched on from outside, so tests can run the real program.
+  // Test modes and start toggles can also be set from outside, so tests and docs can use the
+  // real program: CLOTHSIM_VIEWER_TEST=flat-cloth,hide-cloth,springs,wireframe (any subset).
   if (const char* test = std::getenv("CLOTHSIM_VIEWER_TEST")) {
-    const std::string mode = test;
-    if (mode == "flat-cloth") options.flat_cloth = true;
-    else if (mode == "hide-cloth") options.hide_cloth = true;
-    else if (!mode.empty()) {
-      std::fprintf(stderr, "clothsim: CLOTHSIM_VIEWER_TEST='%s' is not flat-cloth or hide-cloth\n", test);
-      return 1;
+    std::string list = test;
+    for (std::size_t start = 0; start <= list.size();) {
+      const std::size_t comma = std::min(list.find(',', start), list.size());
+      const std::string mode = list.substr(start, comma - start);
+      if (mode == "flat-cloth") options.flat_cloth = true;
+      else if (mode == "hide-cloth") options.hide_cloth = true;
+      else if (mode == "springs") options.show_springs = true;
+      else if (mode == "wireframe") options.wireframe = true;
+      else if (!mode.empty()) {
+        std::fprintf(stderr, "clothsim: CLOTHSIM_VIEWER_TEST: '%s' is not one of flat-cloth, hide-cloth, "
+                     "springs, wireframe\n", mode.c_str());
+        return 1;
+      }
+      start = comma + 1;
     }
   }
   if (std::string err = check_options(options); !err.empty()) {

@@ -21,6 +21,8 @@ struct ViewerOptions {
   // --- additions of the viewer (issue 4) ---
   bool flat_cloth = false;      ///< test mode: cloth drawn unlit in kFlatClothRgb, no texture
   bool hide_cloth = false;      ///< test mode: draw the colliders only
+  bool show_springs = false;    ///< start with springs shown (key S toggles)
+  bool wireframe = false;       ///< start in wireframe (key W toggles)
   double max_work_per_frame = 0.1;  ///< s of stepping per frame at most; beyond it run slower than real time
 };
 
