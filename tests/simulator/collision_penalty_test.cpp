@@ -189,6 +189,9 @@ TEST(CollisionPenalty, MisuseThrows) {
   EXPECT_THROW(accumulate_penalty(set, x, kEps, kRep, f1, s), std::invalid_argument);
   std::vector<std::int32_t> hints(3, -1);  // needs 2 points * 1 object
   EXPECT_THROW(accumulate_penalty(set, x, kEps, kRep, f, s, hints), std::invalid_argument);
+  EXPECT_THROW(accumulate_penalty(set, x, -0.1, kRep, f, s), std::invalid_argument);
+  EXPECT_THROW(accumulate_penalty(set, x, kEps, NAN, f, s), std::invalid_argument);
+  EXPECT_THROW(set.closest(Vector3d::Zero(), -1.0), std::invalid_argument);
 }
 
 TEST(CollisionPenalty, EmptySetGivesNoForce) {

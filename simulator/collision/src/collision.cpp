@@ -433,7 +433,7 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
       std::uint32_t ref;  // Node::packed form
       float d2;
     };
-    Entry stack[128];
+    Entry stack[128];  // each visit pops 1, pushes <= 4; depth <= 26 for 2^28 triangles
     int top = 0;
     const float pf[3] = {static_cast<float>(p[0]), static_cast<float>(p[1]),
                          static_cast<float>(p[2])};
@@ -492,6 +492,7 @@ std::size_t ColliderSet::query(const Eigen::Vector3d& p, double radius,
   if (!built_) throw std::logic_error("ColliderSet::query() before build()");
   if (out.size() != objects_.size())
     throw std::invalid_argument("ColliderSet::query(): out needs one entry per object");
+  if (!(radius >= 0.0)) throw std::invalid_argument("ColliderSet::query(): radius < 0 or NaN");
   if (!hints.empty() && hints.size() != objects_.size())
     throw std::invalid_argument("ColliderSet::query(): hints need one entry per object");
   const double pp[3] = {p.x(), p.y(), p.z()};
@@ -508,6 +509,7 @@ std::size_t ColliderSet::query(const Eigen::Vector3d& p, double radius,
 ColliderHit ColliderSet::closest(const Eigen::Vector3d& p, double radius,
                                  QueryMethod method) const {
   if (!built_) throw std::logic_error("ColliderSet::closest() before build()");
+  if (!(radius >= 0.0)) throw std::invalid_argument("ColliderSet::closest(): radius < 0 or NaN");
   const double pp[3] = {p.x(), p.y(), p.z()};
   ColliderHit best;
   for (std::size_t o = 0; o < objects_.size(); ++o) {
@@ -521,6 +523,8 @@ void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, doubl
                         double k_rep, Eigen::Matrix3Xd& f, PenaltyStats& stats,
                         std::span<std::int32_t> hints, QueryMethod method) {
   if (!set.built()) throw std::logic_error("accumulate_penalty(): ColliderSet not built");
+  if (!(eps > 0.0) || !std::isfinite(eps) || !(k_rep >= 0.0) || !std::isfinite(k_rep))
+    throw std::invalid_argument("accumulate_penalty(): need eps > 0 and k_rep >= 0, finite");
   if (f.cols() != x.cols())
     throw std::invalid_argument("accumulate_penalty(): f and x differ in size");
   const std::size_t no = set.object_count();
