@@ -83,6 +83,30 @@ TEST(Camera, OrbitPanZoom) {
   EXPECT_NEAR(cam.distance, 4.0, 1e-12);
 }
 
+TEST(Camera, DragTargetStaysAtTheGrabbedDepthUnderTheCursor) {
+  cv::OrbitCamera cam;
+  cam.frame(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1), 1.0);
+  const double w = 400, h = 400;
+  // Grab a point, move the cursor: the target is under the new cursor, at the same depth.
+  const Eigen::Vector3d grabbed(0.2, 0.1, -0.3);
+  const double depth = (grabbed - cam.eye()).dot(cam.forward());
+  const cv::Ray moved = cam.ray(300, 120, w, h);
+  Eigen::Vector3d target;
+  ASSERT_TRUE(cv::point_at_depth(moved, cam.eye(), cam.forward(), depth, target));
+  EXPECT_NEAR((target - cam.eye()).dot(cam.forward()), depth, 1e-9);
+  const Eigen::Vector3d ndc = project(cam, 1.0, target);
+  EXPECT_NEAR((ndc.x() + 1.0) * 0.5 * w, 300.0, 1e-3);
+  EXPECT_NEAR((1.0 - ndc.y()) * 0.5 * h, 120.0, 1e-3);
+  // The unmoved cursor gives back the grabbed point.
+  const Eigen::Vector3d g = project(cam, 1.0, grabbed);
+  ASSERT_TRUE(cv::point_at_depth(cam.ray((g.x() + 1) * 0.5 * w, (1 - g.y()) * 0.5 * h, w, h), cam.eye(),
+                                 cam.forward(), depth, target));
+  EXPECT_LT((target - grabbed).norm(), 1e-5);
+  // A ray along the plane has no such point.
+  const cv::Ray sideways{cam.eye(), cam.forward().cross(Eigen::Vector3d::UnitY()).normalized()};
+  EXPECT_FALSE(cv::point_at_depth(sideways, cam.eye(), cam.forward(), depth, target));
+}
+
 TEST(StepClock, CarriesTheRemainderSoRealTimeIsKept) {
   cv::StepClock clock(0.01, 0.1);
   long steps = 0;

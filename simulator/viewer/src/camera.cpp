@@ -10,6 +10,16 @@ namespace {
 constexpr double kMaxPitch = 1.55;  // just short of straight down/up, so the view never flips
 }
 
+bool point_at_depth(const Ray& ray, const Eigen::Vector3d& eye, const Eigen::Vector3d& forward,
+                    double depth, Eigen::Vector3d& point) {
+  const double along = ray.dir.dot(forward);
+  if (along <= 1e-9) return false;
+  // origin + t dir lies on the plane (p - eye) . forward = depth.
+  const double t = (depth - (ray.origin - eye).dot(forward)) / along;
+  point = ray.origin + t * ray.dir;
+  return true;
+}
+
 void OrbitCamera::frame(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double aspect) {
   target = 0.5 * (lo + hi);
   const double radius = std::max(0.5 * (hi - lo).norm(), 1e-3);

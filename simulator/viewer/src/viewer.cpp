@@ -342,10 +342,9 @@ class Viewer {
 
   void update_drag_target() {
     if (!dragging_) return;
-    const view::Ray ray = cursor_ray();
-    const double along = ray.dir.dot(camera_.forward());
-    if (along <= 1e-6) return;
-    state_.drag.target = ray.origin + (drag_depth_ / along) * ray.dir;
+    Eigen::Vector3d target;
+    if (view::point_at_depth(cursor_ray(), camera_.eye(), camera_.forward(), drag_depth_, target))
+      state_.drag.target = target;
   }
 
   void on_cursor(double x, double y) {

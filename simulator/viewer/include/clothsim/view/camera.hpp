@@ -9,6 +9,11 @@ struct Ray {
   Eigen::Vector3d origin, dir;  ///< dir has unit length
 };
 
+/// The point of `ray` at `depth` along the camera's forward axis from `eye` (the drag keeps
+/// the grabbed point on this plane facing the camera); false if the ray runs parallel to it.
+bool point_at_depth(const Ray& ray, const Eigen::Vector3d& eye, const Eigen::Vector3d& forward,
+                    double depth, Eigen::Vector3d& point);
+
 class OrbitCamera {
  public:
   /// Places the target at the box's centre and backs off until the whole box is in view.
