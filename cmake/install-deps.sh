@@ -19,6 +19,8 @@ packages=(
   time
   # strace: fault injection (SIGKILL at the K-th write/rename) in the reliability tests
   strace
+  # xdotool: keys and mouse sent to the viewer's window under Xvfb (tests/viewer)
+  xdotool
 )
 
 missing=()
