@@ -120,7 +120,21 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
       const std::string& lib = scan.mtllibs[i];
       const auto p = folder / lib;
       if (!std::filesystem::exists(p, ec)) {
-        out.warnings.push_back(file.string() + ": material library '" + lib + "' not found; its objects get a default material");
+        // assimp then reads <model>.mtl instead, when there is one: check that one.
+        const auto fallback = folder / (file.stem().string() + ".mtl");
+        if (std::filesystem::is_regular_file(fallback, ec)) {
+          out.warnings.push_back(file.string() + ": material library '" + lib + "' not found; assimp reads '" +
+                                 fallback.filename().string() + "' instead");
+          try {
+            prescan_mtl_file(fallback);
+          } catch (const InputError& e) {
+            throw InputError(std::string(e.what()) + " (material library of " + file.filename().string() + ")");
+          }
+          out.inputs_read.push_back(std::filesystem::absolute(fallback));
+        } else {
+          out.warnings.push_back(file.string() + ": material library '" + lib +
+                                 "' not found; its objects get a default material");
+        }
         continue;
       }
       // assimp would fail on it with a message that names no file

@@ -130,6 +130,9 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
         const char* hex = "0123456789abcdef";
         fail(file, start_line, std::string("binary data (byte 0x") + hex[c >> 4] + hex[c & 15] + ") in a text model file");
       }
+      // assimp ends a line at a lone '\r'; this scan would see another line than it does
+      if (c == '\r' && i + 1 < body_all.size())
+        fail(file, start_line, "carriage return inside a line (old Mac line endings are not supported)");
       if (tok_start != std::string_view::npos) {
         tok.push_back(body_all.substr(tok_start, i - tok_start));
         tok_start = std::string_view::npos;
@@ -248,6 +251,8 @@ void prescan_mtl_file(const std::filesystem::path& file) {
         const char* hex = "0123456789abcdef";
         fail(file, line_no, std::string("binary data (byte 0x") + hex[c >> 4] + hex[c & 15] + ") in a material file");
       }
+      if (c == '\r' && i + 1 < line.size())
+        fail(file, line_no, "carriage return inside a line (old Mac line endings are not supported)");
       const bool space = c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
       if (!space && start == std::string::npos) start = i;
       if (space && start != std::string::npos) {

@@ -115,6 +115,27 @@ TEST(Cli, MtlProblemsAreRefusedWithTheirFileAndLine) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
+// Found by fuzzing: assimp reads <model>.mtl when the named library is missing, and ends a
+// line at a lone '\r'; both would let text reach assimp unchecked.
+TEST(Cli, FallbackMtlAndLoneCarriageReturnAreChecked) {
+  const auto dir = scratch("cli_fallback");
+  write_file(dir / "b.obj", "mtllib gone.mtl\no Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl M\nf 1 2 3\n");
+  write_file(dir / "b.mtl", "Kd 1 1 1\nnewmtl M\n");
+  auto r = run_converter({"-t", (dir / "out").string(), (dir / "b.obj").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "b.mtl").string() + ":1: 'Kd' before any 'newmtl'"), std::string::npos) << r.output;
+  write_file(dir / "b.mtl", "newmtl M\nKd 1 0.5 0\n");
+  r = run_converter({"-t", (dir / "out").string(), (dir / "b.obj").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("assimp reads 'b.mtl' instead"), std::string::npos) << r.output;
+  write_file(dir / "c.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n# note\rf 1 2 3\n");
+  r = run_converter({"-t", (dir / "out2").string(), (dir / "c.obj").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "c.obj").string() + ":4: carriage return inside a line"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out2"));
+}
+
 TEST(Cli, FolderInAnOutputsPlaceChangesNothing) {
   const auto dir = scratch("cli_taken");
   ASSERT_EQ(run_converter({"-t", dir.string(), fixture("plain.obj").string()}).exit_code, 0);
