@@ -194,6 +194,56 @@ TEST(ViewerProbe, WindowRunsInRealTimeUntilTheRequestedTimeAndClosesCleanly) {
   EXPECT_NE(r.output.find("closed at t = 0.30 s after 30 steps"), std::string::npos) << r.output;
 }
 
+// Keys and mouse through the X server (xdotool, XTEST) to a visible window: N twice while
+// paused, S (springs), a left drag that grabs the cloth, P while dragging (before the steps pull
+// the point to the cursor), then Q.
+TEST(ViewerProbe, KeysAndDragReachTheWindow) {
+  if (run("command -v xdotool").code != 0) GTEST_SKIP() << "xdotool not installed (cmake/install-deps.sh)";
+  // Where the cloth is at t = 0 in a 320x240 picture (the window shows the same view).
+  const fs::path where = out("keys_where.png");
+  ASSERT_EQ(run(q(g_probe) + " --width 320 --height 240 --flat-cloth --screenshot " + q(where)).code, 0);
+  const Image w0 = load(where);
+  ASSERT_TRUE(w0.ok());
+  long cx = 0, cy = 0, count = 0;
+  for (int y = 0; y < w0.h; ++y)
+    for (int x = 0; x < w0.w; ++x)
+      if (w0.at(x, y)[0] > 240 && w0.at(x, y)[1] < 15 && w0.at(x, y)[2] > 240) {
+        cx += x;
+        cy += y;
+        ++count;
+      }
+  ASSERT_GT(count, 50);
+  cx /= count;
+  cy /= count;
+  ASSERT_EQ(w0.at(static_cast<int>(cx), static_cast<int>(cy))[1], 0) << "the centroid is not on the cloth";
+
+  const fs::path dir = out("keys");
+  fs::create_directories(dir);
+  const std::string xdo = "timeout 30 xdotool search --sync --onlyvisible --name '^clothsim' windowfocus --sync "
+                          "mousemove --window %1 " + std::to_string(cx) + " " + std::to_string(cy) +
+                          " mousedown 1 mousemove --window %1 " + std::to_string(cx + 40) + " " +
+                          std::to_string(cy - 30) + " key s key p key n key n mouseup 1 key q";
+  const Result r = run("cd " + q(dir) + " && (timeout 60 " + q(g_probe) +
+                       " --width 320 --height 240 --paused --flat-cloth & pid=$!; " + xdo +
+                       " || { echo xdotool failed; kill $pid; }; wait $pid; echo \"probe exit $?\")");
+  EXPECT_NE(r.output.find("probe exit 0"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("after 2 steps"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("wrote clothsim_0000.png"), std::string::npos) << r.output;
+  const Image shot = load(dir / "clothsim_0000.png");
+  ASSERT_TRUE(shot.ok()) << r.output;
+  EXPECT_EQ(shot.w, 320);
+  long yellow = 0, red = 0, green = 0;
+  for (std::size_t i = 0; i < shot.rgb.size(); i += 3) {
+    const int R = shot.rgb[i], G = shot.rgb[i + 1], B = shot.rgb[i + 2];
+    if (R > 220 && G > 180 && G < 240 && B < 90) ++yellow;  // the drag line
+    if (R > 170 && G < 60 && B < 60) ++red;                 // structural springs
+    if (G > 110 && R < 60 && B < 60) ++green;               // bend springs
+  }
+  EXPECT_GT(yellow, 5) << "no drag line: the press did not grab the cloth";
+  EXPECT_GT(red, 20) << "springs not shown";
+  EXPECT_GT(green, 20) << "bend springs not shown";
+}
+
 // The real programs: screenshots at t = 0 and t = T with the cloth in the flat test colour
 // (CLOTHSIM_VIEWER_TEST=flat-cloth), and once as the user sees it.
 class RealProgram : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};

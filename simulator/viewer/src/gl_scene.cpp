@@ -68,7 +68,11 @@ void main() {
 const char* kLineVs = R"(#version 330 core
 layout(location = 0) in vec3 a_pos;
 uniform mat4 u_view_proj;
-void main() { gl_Position = u_view_proj * vec4(a_pos, 1.0); }
+uniform float u_point_size;
+void main() {
+  gl_Position = u_view_proj * vec4(a_pos, 1.0);
+  gl_PointSize = u_point_size;
+}
 )";
 
 const char* kLineFs = R"(#version 330 core
@@ -257,6 +261,7 @@ void GlScene::init(const b2o::Scene& scene, const Model& model) {
          glGetUniformLocation(mesh_prog_, "u_flat")};
   line_view_proj_ = glGetUniformLocation(line_prog_, "u_view_proj");
   line_color_ = glGetUniformLocation(line_prog_, "u_color");
+  line_point_size_ = glGetUniformLocation(line_prog_, "u_point_size");
 
   for (std::uint32_t t = 0; t < scene.texture_count; ++t)
     textures_.push_back(load_texture(scene.textures[t], scene.name ? scene.name : "?"));
@@ -398,6 +403,7 @@ void GlScene::draw(const b2o::Scene& scene, const Model& model, const Eigen::Mat
 
   glUseProgram(line_prog_);
   glUniformMatrix4fv(line_view_proj_, 1, GL_FALSE, view_proj.data());
+  glUniform1f(line_point_size_, 1.0f);
   if ((flags.springs || code_built_cloth_) && !flags.hide_cloth) {
     glBindVertexArray(spring_vao_);
     glUniform3f(line_color_, 0.85f, 0.1f, 0.1f);  // structural red, bend green: the report's fig. 3
@@ -418,6 +424,11 @@ void GlScene::draw(const b2o::Scene& scene, const Model& model, const Eigen::Mat
     glUniform3f(line_color_, 1.0f, 0.85f, 0.1f);
     glDisable(GL_DEPTH_TEST);
     glDrawArrays(GL_LINES, 0, 2);
+    // Core profiles have no wide lines: the two ends as squares, so the pull is easy to see.
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    glUniform1f(line_point_size_, 7.0f);
+    glDrawArrays(GL_POINTS, 0, 2);
+    glDisable(GL_PROGRAM_POINT_SIZE);
     glEnable(GL_DEPTH_TEST);
   }
   glBindVertexArray(0);

@@ -70,7 +70,7 @@ class GlScene {
   };
   GLuint mesh_prog_ = 0, line_prog_ = 0, bg_prog_ = 0;
   MeshUniforms mu_{};
-  GLint line_view_proj_ = -1, line_color_ = -1;
+  GLint line_view_proj_ = -1, line_color_ = -1, line_point_size_ = -1;
   GLuint mesh_vao_ = 0, pos_vbo_ = 0, nrm_vbo_ = 0, uv_vbo_ = 0, ebo_ = 0;
   GLuint spring_vao_ = 0, mass_vbo_ = 0, spring_ebo_ = 0;
   GLuint drag_vao_ = 0, drag_vbo_ = 0;

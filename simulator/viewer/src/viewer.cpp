@@ -185,9 +185,9 @@ class Viewer {
         n = clock_.steps_due(elapsed, step_cost_);
       } else {
         clock_.reset();
-        if (single_step_) n = 1;
+        n = pending_steps_;  // N presses, each one step, even several within one frame
       }
-      single_step_ = false;
+      pending_steps_ = 0;
       if (opt_.seconds >= 0.0) {  // a timed run: stop exactly at the requested time
         const double dt = model_.options.dt;
         const long left = static_cast<long>(std::llround((opt_.seconds - state_.t) / dt));
@@ -283,7 +283,7 @@ class Viewer {
       case GLFW_KEY_PERIOD:
         if (!non_finite_) {
           paused_ = true;
-          single_step_ = true;
+          ++pending_steps_;
         }
         break;
       case GLFW_KEY_R:
@@ -385,7 +385,8 @@ class Viewer {
   view::GlScene gpu_;
   GLFWwindow* window_ = nullptr;
   double step_cost_ = 0.0;
-  bool paused_ = false, single_step_ = false, non_finite_ = false;
+  bool paused_ = false, non_finite_ = false;
+  long pending_steps_ = 0;
   bool wireframe_ = false, show_springs_ = false, screenshot_request_ = false;
   bool dragging_ = false;
   double drag_depth_ = 0.0;
