@@ -141,6 +141,8 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     if (tok_start != std::string_view::npos) tok.push_back(body_all.substr(tok_start, end - tok_start));
     for (std::size_t i = end; i < body_all.size(); ++i) {
       const unsigned char c = static_cast<unsigned char>(body_all[i]);
+      if (c == '\r' && i + 1 < body_all.size())
+        fail(file, start_line, "carriage return inside a line (old Mac line endings are not supported)");
       if (c < 0x20 && c != '\t' && c != '\r' && c != '\f' && c != '\v') {
         const char* hex = "0123456789abcdef";
         fail(file, start_line, std::string("binary data (byte 0x") + hex[c >> 4] + hex[c & 15] + ") in a text model file");
