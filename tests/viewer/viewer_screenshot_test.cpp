@@ -222,13 +222,16 @@ TEST(ViewerProbe, KeysAndDragReachTheWindow) {
   const std::string xdo = "timeout 30 xdotool search --sync --onlyvisible --name '^clothsim' windowfocus --sync "
                           "mousemove --window %1 " + std::to_string(cx) + " " + std::to_string(cy) +
                           " mousedown 1 mousemove --window %1 " + std::to_string(cx + 40) + " " +
-                          std::to_string(cy - 30) + " key s key p key n key n mouseup 1 key q";
+                          std::to_string(cy - 30) + " key s key p key n key n mouseup 1 getwindowname %1 key q";
   const Result r = run("cd " + q(dir) + " && (timeout 60 " + q(g_probe) +
                        " --width 320 --height 240 --paused --flat-cloth & pid=$!; " + xdo +
                        " || { echo xdotool failed; kill $pid; }; wait $pid; echo \"probe exit $?\")");
   EXPECT_NE(r.output.find("probe exit 0"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("after 2 steps"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("wrote clothsim_0000.png"), std::string::npos) << r.output;
+  // The title: scene, time, rates, state and the keys.
+  for (const char* part : {"clothsim hand | t ", "steps/s", "ms/step", "real time", "paused", "Space pause"})
+    EXPECT_NE(r.output.find(part), std::string::npos) << part << " not in the title: " << r.output;
   const Image shot = load(dir / "clothsim_0000.png");
   ASSERT_TRUE(shot.ok()) << r.output;
   EXPECT_EQ(shot.w, 320);
@@ -242,6 +245,22 @@ TEST(ViewerProbe, KeysAndDragReachTheWindow) {
   EXPECT_GT(yellow, 5) << "no drag line: the press did not grab the cloth";
   EXPECT_GT(red, 20) << "springs not shown";
   EXPECT_GT(green, 20) << "bend springs not shown";
+}
+
+TEST(ViewerProbe, ResizingTheWindowResizesThePicture) {
+  if (run("command -v xdotool").code != 0) GTEST_SKIP() << "xdotool not installed (cmake/install-deps.sh)";
+  const fs::path dir = out("resize");
+  fs::create_directories(dir);
+  const Result r = run("cd " + q(dir) + " && (timeout 60 " + q(g_probe) +
+                       " --width 320 --height 240 --paused --flat-cloth & pid=$!; timeout 30 xdotool search --sync "
+                       "--onlyvisible --name '^clothsim' windowfocus --sync windowsize --sync %1 480 200 key p key q"
+                       " || { echo xdotool failed; kill $pid; }; wait $pid; echo \"probe exit $?\")");
+  EXPECT_NE(r.output.find("probe exit 0"), std::string::npos) << r.output;
+  const Image shot = load(dir / "clothsim_0000.png");
+  ASSERT_TRUE(shot.ok()) << r.output;
+  EXPECT_EQ(shot.w, 480);
+  EXPECT_EQ(shot.h, 200);
+  EXPECT_GT(flat_pixels(shot).count, 200) << "the cloth is not in the resized picture";
 }
 
 // The real programs: screenshots at t = 0 and t = T with the cloth in the flat test colour
