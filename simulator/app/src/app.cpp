@@ -159,7 +159,9 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
 
   app.add_flag("--headless", headless, "Run without a window" );
   auto* o_seconds = app.add_option("--seconds", seconds, "Simulated seconds to run (default 20 headless; the viewer runs until closed)");
-  auto* o_steps = app.add_option("--steps", steps, "Number of steps to run instead of --seconds");
+  auto* o_steps = app.add_option("--steps", steps, "Number of steps to run instead of --seconds")
+                     // "-3" would wrap to 2^64-3 steps in the unsigned count
+                     ->check([](const std::string& v) { return v.rfind('-', 0) == 0 ? std::string("must be > 0 (got " + v + ")") : std::string(); });
   o_steps->excludes(o_seconds);
   auto* o_dt = app.add_option("--dt", dt, "Step size h, s (seed: -step)");
   auto* o_mass = app.add_option("--mass", mass, "Mass per point, kg (seed: -mass)");
