@@ -9,11 +9,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <signal.h>
+
 #include <cerrno>
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -27,11 +31,15 @@ namespace reliability {
 struct Result {
   int exit_code = -1;  ///< -1 when killed by a signal
   int signal = 0;
+  bool timed_out = false;  ///< killed by the watchdog of run()
   std::string out, err;
 };
 
 /// Runs argv[0] (a path) with argv; `env` entries ("K=V") are added to the environment.
-inline Result run(const std::vector<std::string>& argv, const std::vector<std::string>& env = {}) {
+/// A watchdog kills the program after `limit_s` seconds so that a hang fails the test
+/// instead of blocking the suite (it is a bound, not a synchronisation).
+inline Result run(const std::vector<std::string>& argv, const std::vector<std::string>& env = {},
+                  double limit_s = 60.0) {
   int out_pipe[2], err_pipe[2];
   if (pipe(out_pipe) != 0 || pipe(err_pipe) != 0) throw std::runtime_error("pipe failed");
   posix_spawn_file_actions_t fa;
@@ -65,10 +73,18 @@ inline Result run(const std::vector<std::string>& argv, const std::vector<std::s
   std::string* sinks[2] = {&r.out, &r.err};
   int open_count = 2;
   char buf[65536];
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
   while (open_count > 0) {
-    if (poll(fds, 2, -1) < 0) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const int ready = poll(fds, 2, r.timed_out ? -1 : static_cast<int>(std::max<long long>(0, left.count())));
+    if (ready < 0) {
       if (errno == EINTR) continue;
       break;
+    }
+    if (ready == 0) {  // over time: kill it, then drain the pipes
+      r.timed_out = true;
+      kill(pid, SIGKILL);
+      continue;
     }
     for (int k = 0; k < 2; ++k) {
       if (fds[k].fd < 0 || fds[k].revents == 0) continue;
