@@ -66,6 +66,9 @@ float round_up(double v) {
   return f;
 }
 
+// Triangle slots come in blocks of 4 (one leaf each), component-major inside a block.
+constexpr std::uint32_t kBlock = 4;
+
 // Total order for "closest": distance, then lowest input triangle index.
 inline bool better(double d2, std::int32_t tri, double best_d2, std::int32_t best_tri) {
   return d2 < best_d2 || (d2 == best_d2 && tri < best_tri);
@@ -137,8 +140,7 @@ std::uint32_t ColliderSet::add_object(
 }
 
 std::size_t ColliderSet::triangle_count(std::size_t o) const {
-  const Object& ob = objects_.at(o);
-  return ob.tri_end - ob.tri_begin;
+  return objects_.at(o).kept;
 }
 
 void ColliderSet::triangle(std::size_t o, std::size_t t, Eigen::Vector3d& a, Eigen::Vector3d& b,
@@ -157,9 +159,8 @@ void ColliderSet::build() {
   if (total >= (std::size_t{1} << 28))  // leaf triangle slots are packed in 29 bits
     throw std::invalid_argument("colliders: " + std::to_string(total) +
                                 " triangles, at most 2^28 supported");
-  for (auto* v : {&ax_, &ay_, &az_, &bx_, &by_, &bz_, &cx_, &cy_, &cz_, &nx_, &ny_, &nz_})
-    v->reserve(total);
-  orig_.reserve(total);
+  tri_.reserve(12 * 2 * total);
+  orig_.reserve(2 * total);
   nodes_.reserve(total / 2 + 2 * objects_.size() + 1);
   nodes4_.reserve(total / 6 + objects_.size() + 1);
 
@@ -208,23 +209,32 @@ void ColliderSet::build() {
     ob.scale = scale;
     ob.root = build_node(0, static_cast<std::uint32_t>(perm.size()), cent, perm, corners, pad);
 
-    // Store the triangles in leaf order; node triangle indices become global slots.
-    for (std::uint32_t i : perm) {
-      const std::uint32_t t = kept[i];
-      const Eigen::Vector3d a = ob.vertices.col(ob.indices[3 * t]);
-      const Eigen::Vector3d ab = ob.vertices.col(ob.indices[3 * t + 1]) - a;
-      const Eigen::Vector3d ac = ob.vertices.col(ob.indices[3 * t + 2]) - a;
-      const Eigen::Vector3d n = unit_normal(ab, ac);
-      ax_.push_back(a.x()), ay_.push_back(a.y()), az_.push_back(a.z());
-      bx_.push_back(ab.x()), by_.push_back(ab.y()), bz_.push_back(ab.z());
-      cx_.push_back(ac.x()), cy_.push_back(ac.y()), cz_.push_back(ac.z());
-      nx_.push_back(n.x()), ny_.push_back(n.y()), nz_.push_back(n.z());
-      ob.input_to_kept[t] = static_cast<std::int32_t>(orig_.size());
-      orig_.push_back(static_cast<std::int32_t>(t));
+    // Store the triangles leaf by leaf, each leaf in its own block of 4 slots (384 bytes, one
+    // contiguous run per leaf; unused slots have orig_ = -1). Leaves get global slots.
+    for (std::size_t ni = ob.root; ni < nodes_.size(); ++ni) {
+      Node& leaf = nodes_[ni];
+      if (!leaf.leaf()) continue;
+      const std::uint32_t first = leaf.index(), count = leaf.count();
+      const auto slot0 = static_cast<std::uint32_t>(orig_.size());
+      tri_.resize(tri_.size() + kBlock * 12, 0.0);
+      orig_.resize(orig_.size() + kBlock, -1);
+      for (std::uint32_t j = 0; j < count; ++j) {
+        const std::uint32_t t = kept[perm[first + j]];
+        const Eigen::Vector3d a = ob.vertices.col(ob.indices[3 * t]);
+        const Eigen::Vector3d ab = ob.vertices.col(ob.indices[3 * t + 1]) - a;
+        const Eigen::Vector3d ac = ob.vertices.col(ob.indices[3 * t + 2]) - a;
+        const Eigen::Vector3d n = unit_normal(ab, ac);
+        const double comp[12] = {a.x(),  a.y(),  a.z(),  ab.x(), ab.y(), ab.z(),
+                                 ac.x(), ac.y(), ac.z(), n.x(),  n.y(),  n.z()};
+        for (std::size_t k = 0; k < 12; ++k) tri_[12 * slot0 + kBlock * k + j] = comp[k];
+        ob.input_to_kept[t] = static_cast<std::int32_t>(slot0 + j);
+        orig_[slot0 + j] = static_cast<std::int32_t>(t);
+      }
+      leaf.packed = (slot0 << 3) | count;
     }
     ob.tri_end = static_cast<std::uint32_t>(orig_.size());
-    for (std::size_t ni = ob.root; ni < nodes_.size(); ++ni)
-      if (nodes_[ni].leaf()) nodes_[ni].packed += ob.tri_begin << 3;
+    ob.kept = kept.size();
+    kept_total_ += kept.size();
     ob.root4 = nodes_[ob.root].leaf() ? nodes_[ob.root].packed : collapse(ob.root) << 3;
   }
   // Padded, so the early-out never rejects what a query would find.
@@ -333,7 +343,7 @@ std::uint32_t ColliderSet::build_node(std::uint32_t begin, std::uint32_t end,
     if (nearly_orthonormal(o.a) && volume(o) < volume(best)) best = o;
   }
 
-  constexpr std::uint32_t kLeafSize = 4;
+  constexpr std::uint32_t kLeafSize = kBlock;  // a leaf fills at most one block of slots
   if (end - begin <= kLeafSize) {
     best.packed = (begin << 3) | (end - begin);  // local slot, made global by build()
     nodes_[self] = best;
@@ -410,8 +420,10 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
 #ifdef CLOTHSIM_COLLISION_COUNTERS
     ++g_tri_tests;
 #endif
-    const detail::Tri t{ax_[slot], ay_[slot], az_[slot], bx_[slot], by_[slot], bz_[slot],
-                        cx_[slot], cy_[slot], cz_[slot], nx_[slot], ny_[slot], nz_[slot]};
+    const double* b = &tri_[12 * (slot & ~(kBlock - 1)) + (slot & (kBlock - 1))];
+    const detail::Tri t{b[0],          b[kBlock],      b[2 * kBlock],  b[3 * kBlock],
+                        b[4 * kBlock], b[5 * kBlock],  b[6 * kBlock],  b[7 * kBlock],
+                        b[8 * kBlock], b[9 * kBlock],  b[10 * kBlock], b[11 * kBlock]};
     double s, v, w;
     TriangleRegion region;
     const double d2 = detail::closest_sq(p, t, s, v, w, region);
@@ -421,7 +433,8 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
   };
 
   if (method == QueryMethod::BruteForce) {
-    for (std::uint32_t slot = ob.tri_begin; slot < ob.tri_end; ++slot) test(slot);
+    for (std::uint32_t slot = ob.tri_begin; slot < ob.tri_end; ++slot)
+      if (orig_[slot] >= 0) test(slot);
   } else {
     if (hint >= 0 && static_cast<std::size_t>(hint) < ob.input_to_kept.size()) {
       const std::int32_t slot = ob.input_to_kept[static_cast<std::size_t>(hint)];
@@ -482,7 +495,8 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
   hit.triangle = best_tri;
   hit.distance_sq = best;
   hit.signed_distance = detail::signed_distance(best, best_s);
-  hit.normal = Eigen::Vector3d(nx_[best_slot], ny_[best_slot], nz_[best_slot]);
+  const double* b = &tri_[12 * (best_slot & ~(kBlock - 1)) + (best_slot & (kBlock - 1))];
+  hit.normal = Eigen::Vector3d(b[9 * kBlock], b[10 * kBlock], b[11 * kBlock]);
   return hit;
 }
 

@@ -93,7 +93,7 @@ struct ColliderSet {
   /// Triangles as given to add_object (including degenerate ones).
   std::size_t input_triangle_count(std::size_t o) const { return objects_.at(o).indices.size() / 3; }
   /// Triangles kept by build() (all objects, or one).
-  std::size_t triangle_count() const { return orig_.size(); }
+  std::size_t triangle_count() const { return kept_total_; }
   std::size_t triangle_count(std::size_t o) const;
   /// Degenerate triangles skipped by build().
   std::size_t degenerate_count(std::size_t o) const { return objects_.at(o).degenerate; }
@@ -149,7 +149,8 @@ struct ColliderSet {
     std::vector<std::uint32_t> indices;
     std::size_t degenerate = 0;
     double scale = 0.0;  ///< largest |coordinate| of its kept triangles (rounding margins)
-    std::uint32_t tri_begin = 0, tri_end = 0;  ///< kept triangles, BVH order
+    std::uint32_t tri_begin = 0, tri_end = 0;  ///< its slots (blocks of 4, BVH leaf order)
+    std::size_t kept = 0;                      ///< triangles kept by build()
     std::uint32_t root = 0;                    ///< binary node index (valid when tri_end > tri_begin)
     std::uint32_t root4 = 0;                   ///< its Node4 (or leaf) in Node::packed form
     std::vector<std::int32_t> input_to_kept;   ///< input triangle -> kept slot, -1 if dropped
@@ -160,9 +161,11 @@ struct ColliderSet {
 
   std::vector<Object> objects_;
   bool built_ = false;
-  // Kept triangles, structure of arrays in BVH order: A, AB = B - A, AC = C - A, unit normal.
-  std::vector<double> ax_, ay_, az_, bx_, by_, bz_, cx_, cy_, cz_, nx_, ny_, nz_;
-  std::vector<std::int32_t> orig_;     ///< input triangle index within its object
+  // Kept triangles: A, AB = B - A, AC = C - A, unit normal; one block of 4 slots per BVH leaf,
+  // each block a small structure of arrays (12 components x 4 slots, 384 bytes).
+  std::vector<double> tri_;
+  std::vector<std::int32_t> orig_;     ///< per slot: input triangle index in its object, -1 unused
+  std::size_t kept_total_ = 0;
   std::uint32_t collapse(std::uint32_t binary);
   std::vector<Node> nodes_;    ///< the binary tree (build, and each object's root box)
   std::vector<Node4> nodes4_;  ///< what queries traverse
