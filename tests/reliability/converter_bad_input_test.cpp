@@ -183,10 +183,9 @@ TEST(BadInput, UnwritableTarget) {
   }
 }
 
-// Known issue (reported to the converter): write_outputs() renames the outputs one by one, so a
-// rename that fails midway (here: a folder in place of model.bin) leaves new .h/.cpp/.S next to
-// the old .bin. Enable when the converter checks every final path before the first rename.
-TEST(KnownIssues, DISABLED_OutputNameTakenByFolderChangesNothing) {
+// A folder in place of one output (model.bin): refused before anything is replaced (found here
+// first: the renames used to leave new .h/.cpp/.S next to the old .bin).
+TEST(BadInput, OutputNameTakenByFolderChangesNothing) {
   TempDir work("taken");
   const fs::path input = work.path / "model.obj";
   reliability::write_file(input, kTriangle);
@@ -256,10 +255,8 @@ TEST(BadUsage, ExitsTwoWithOneLine) {
 
 namespace {
 
-// Known issue (reported to the converter): a folder named like the .mtl passes the pre-scan as
-// "not found" (a warning), then assimp fails on it with "cannot import: File read error", a
-// message that does not name the .mtl. Enable when the message names it.
-TEST(KnownIssues, DISABLED_MtlFolderIsNamedInTheMessage) {
+// A folder named like the .mtl: the message names it (it used to be assimp's "File read error").
+TEST(BadInput, MtlFolderIsNamedInTheMessage) {
   TempDir work("mtl");
   const fs::path input = work.path / "model.obj";
   reliability::write_file(input, "mtllib model.mtl\no Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl M\nf 1 2 3\n");
@@ -272,11 +269,9 @@ TEST(KnownIssues, DISABLED_MtlFolderIsNamedInTheMessage) {
 
 namespace {
 
-// Known issue (found by the fuzzer, reported): a .mtl whose first statement is map_Kd (no
-// `newmtl` before it) crashes assimp 5.2.5 inside the OBJ material parser (a null current
-// material), so blender2ogl dies with SIGSEGV. Fix: pre-scan the .mtl as the .obj is, and
-// refuse a statement before the first `newmtl` with file:line. Enable when fixed.
-TEST(KnownIssues, DISABLED_MtlStatementBeforeNewmtlIsRefused) {
+// Found by the fuzzer: a .mtl whose first statement is map_Kd (no `newmtl` before it) crashed
+// assimp 5.2.5 in its material parser (SIGSEGV); the pre-scan now refuses it with file:line.
+TEST(BadInput, MtlStatementBeforeNewmtlIsRefused) {
   TempDir work("newmtl");
   for (const char* f : {"mtl_statement_before_newmtl.obj", "before_newmtl.mtl"})
     fs::copy_file(kCorpus / f, work.path / f);

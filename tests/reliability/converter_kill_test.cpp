@@ -66,6 +66,18 @@ struct Fixture {
   }
 };
 
+// Compiles and links the scene in `dir` with a main that reads it.
+bool builds(const fs::path& dir) {
+  reliability::write_file(dir / "main.cpp", "#include \"dice.h\"\nint main() { return static_cast<int>(b2o::gen::dice::scene.vertex_count & 1u); }\n");
+  const std::string cmd = std::string(CXX_COMPILER) + " -std=c++20 -w -I" + B2O_INCLUDE + " -I'" + dir.string() + "' '" +
+                          (dir / "main.cpp").string() + "' '" + (dir / "dice.cpp").string() + "' '" +
+                          (dir / "dice.S").string() + "' -o '" + (dir / "prog").string() + "'";
+  const Result r = reliability::run({"/bin/sh", "-c", cmd});
+  fs::remove(dir / "main.cpp");
+  fs::remove(dir / "prog");
+  return r.exit_code == 0;
+}
+
 // For each kill point: does every output hold a complete old or new version, and is the set
 // all-old or all-new? Returns the number of kill points that actually killed.
 int kill_everywhere(const Fixture& fx, const std::string& strace, bool check_set) {
@@ -90,9 +102,10 @@ int kill_everywhere(const Fixture& fx, const std::string& strace, bool check_set
         old_count += is_old;
         new_count += is_new && !is_old;
       }
-      if (check_set) {
-        EXPECT_TRUE(old_count == static_cast<int>(got.size()) || new_count == static_cast<int>(got.size()))
-            << old_count << " old and " << new_count << " new outputs: a mix";
+      const bool mixed = old_count != static_cast<int>(got.size()) && new_count != static_cast<int>(got.size());
+      if (check_set && mixed) {
+        // The converter's design: a mixed set may exist on disk but must never build.
+        EXPECT_FALSE(builds(fx.target)) << old_count << " old and " << new_count << " new outputs build together";
       }
       // The next run repairs everything.
       std::vector<std::string> argv = {kExe};
@@ -115,10 +128,12 @@ TEST(Interrupted, EachOutputIsOldOrNewNeverTorn) {
   EXPECT_GE(kill_everywhere(fx, strace, false), 2 * static_cast<int>(fx.new_set.size()));
 }
 
-// Known issue (reported to the converter): write_outputs() publishes the files with one
-// rename each, so a kill between two renames leaves new and old outputs side by side (e.g. a
-// new .h with the old .bin). Enable once the set is published atomically.
-TEST(KnownIssues, DISABLED_KilledWriteLeavesAllOldOrAllNew) {
+// Known issue (reported to the converter): the outputs are published with one rename each
+// (.bin, .S, .cpp, .h), so a kill between two renames leaves old and new files side by side.
+// The converter ties .h/.cpp/.S together by a bake id (a mix fails to build), but not the .bin:
+// a kill right after the .bin's rename leaves the old .S reading the new .bin at the old
+// offsets, and that builds. Enable once the .bin is tied in too (e.g. named by its hash).
+TEST(KnownIssues, DISABLED_KilledWriteLeavesNoMixThatBuilds) {
   const std::string strace = find_strace();
   if (strace.empty()) GTEST_SKIP() << "strace not installed";
   Fixture fx;
