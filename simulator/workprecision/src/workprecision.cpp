@@ -33,6 +33,7 @@ struct Trajectory {
   bool finite = true;
   long steps = 0;
   double seconds = 0.0;
+  double first_contact = -1.0;  ///< s, first step with a point in a collider band; -1: none
 };
 
 // One run of `method` at `dt` to the horizon; positions kept at the sample times.
@@ -53,6 +54,7 @@ Trajectory simulate(const Model& base, Integrator method, double dt, const Setti
         tr.finite = false;
         break;
       }
+      if (tr.first_contact < 0.0 && ws.last_contacts > 0) tr.first_contact = st.t;
     }
     tr.x[static_cast<std::size_t>(j)] = st.x;
   }
@@ -139,6 +141,7 @@ Result run(const Model& model, const std::string& scene, const Settings& s, std:
   const Trajectory ref2 = simulate(model, Integrator::RK4, r.h_ref / 2, st);
   if (!ref.finite || !ref2.finite) throw std::runtime_error(scene + ": the reference solution is not finite");
   r.ref_check = rms_error(ref, ref2, r.size);
+  r.first_contact = ref.first_contact;
   progress << " done (" << fmt(ref.seconds + ref2.seconds) << " s), difference " << fmt(r.ref_check) << "\n";
 
   std::vector<Integrator> methods = s.methods;
@@ -172,7 +175,8 @@ Result run(const Model& model, const std::string& scene, const Settings& s, std:
       progress << "[" << scene << " " << done << "/" << total << "] " << std::left << std::setw(17)
                << to_string(m) << " dt " << std::setw(10) << fmt(p.dt) << " error "
                << std::setw(10) << (p.finite ? fmt(p.error) : "not finite") << " cpu "
-               << fmt(p.seconds) << " s" << (p.finite && !p.resolved ? " (below reference)" : "")
+               << fmt(p.seconds) << " s"
+               << (p.finite && !p.resolved ? (p.error > 1.0 ? " (blew up)" : " (below reference)") : "")
                << "\n"
                << std::flush;
     }
@@ -233,6 +237,7 @@ Result run(const Model& model, const std::string& scene, const Settings& s, std:
 void print_summary(const Result& r, std::ostream& out) {
   out << "== " << r.scene << ": cloth size " << fmt(r.size) << " m, horizon " << fmt(r.horizon)
       << " s, symplectic Euler dt_stable " << fmt(r.dt_stable) << " s\n";
+  if (r.first_contact >= 0.0) out << "first contact (reference run) at t = " << fmt(r.first_contact) << " s\n";
   out << "reference check: rk4 h_ref " << fmt(r.h_ref) << " s vs h_ref/2 differ by " << fmt(r.ref_check)
       << "; smallest error shown " << fmt(r.smallest_error) << " -> "
       << (r.ref_check < 0.1 * r.smallest_error ? "OK (< 1/10)" : "NOT OK (>= 1/10)") << "\n";

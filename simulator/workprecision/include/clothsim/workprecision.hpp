@@ -46,6 +46,7 @@ struct Result {
   double dt_stable = 0.0;        ///< s, symplectic Euler's limit (guard)
   double h_ref = 0.0;            ///< s
   double ref_check = 0.0;        ///< relative RMS difference of h_ref vs h_ref / 2
+  double first_contact = -1.0;   ///< s, first contact in the reference run; -1: none
   double smallest_error = 0.0;   ///< smallest resolved error shown
   std::vector<Point> points;
   std::vector<MethodSummary> summary;

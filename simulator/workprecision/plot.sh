@@ -1,0 +1,25 @@
+#!/bin/sh
+# A PNG of a clothsim_wp CSV with gnuplot (the tool writes its own SVG; this is for docs/).
+# usage: plot.sh CSV PNG TITLE REFCHECK   (REFCHECK: the reference check the tool printed)
+csv=$1; png=$2; title=$3; ref=$4
+d=$(mktemp -d)
+methods="symplectic-euler explicit-euler verlet midpoint rk4 implicit-euler fast-mass-spring"
+plot=""
+for m in $methods; do
+  awk -F, -v m=$m -v r=$ref 'NR>1 && $1==m && $6==1 && $3<=1 && $3>=10*r {print $3, $4}' "$csv" > $d/$m.dat
+  if [ -s $d/$m.dat ]; then plot="$plot${plot:+, }'$d/$m.dat' using 1:2 with linespoints lw 2 pt 7 title '$m'"; fi
+done
+gnuplot <<GP
+set terminal pngcairo size 900,600 font 'sans,11'
+set output '$png'
+set logscale xy
+set grid
+set xlabel 'error (RMS position error / cloth size)'
+set ylabel 'CPU seconds'
+set title '$title'
+set key outside right
+set arrow from 1e-2, graph 0 to 1e-2, graph 1 nohead dt 2 lc 'gray'
+set arrow from 1e-3, graph 0 to 1e-3, graph 1 nohead dt 2 lc 'gray'
+plot $plot
+GP
+rm -r $d
