@@ -189,7 +189,13 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
       } else {
         std::string rel = written;
         std::replace(rel.begin(), rel.end(), '\\', '/');
-        const std::filesystem::path p = std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : folder / rel;
+        // relative to the .obj's folder, else to the folder of a .mtl that names it
+        std::filesystem::path p = std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : folder / rel;
+        for (const auto& lib : scan.mtllibs) {
+          if (std::filesystem::path(rel).is_absolute() || std::filesystem::is_regular_file(p, ec)) break;
+          p = (folder / lib).parent_path() / rel;
+        }
+        if (!std::filesystem::is_regular_file(p, ec)) p = folder / rel;
         std::ifstream in(p, std::ios::binary);
         if (rel.empty() || rel[0] == '*' || !in || std::filesystem::is_directory(p, ec)) {
           out.warnings.push_back(file.string() + ": texture '" + written + "' of material '" + m.name +

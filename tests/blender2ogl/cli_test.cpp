@@ -26,9 +26,11 @@ TEST(Cli, BadInputGivesOneLineExitOneNoFiles) {
       {"bad/two_vertex_face.obj", ":4: 'f' needs at least 3 vertices"},
       {"bad/no_such_file.obj", ": no such file"},
       {"bad", ": is a directory"},
+      {"grid.obj/inside.obj", ": no such file"},  // a path through a file
   };
   for (const Bad& c : cases) {
-    const std::string path = fixture(c.file).string();
+    const std::string path = (std::string(c.file) == "grid.obj/inside.obj" ? fixture("grid.obj") / "inside.obj"
+                                                                           : fixture(c.file)).string();
     const auto r = run_converter({"-t", (out / "x").string(), path});
     EXPECT_EQ(r.exit_code, 1) << c.file << "\n" << r.output;
     EXPECT_NE(r.output.find(path + c.expect), std::string::npos) << c.file << ": " << r.output;

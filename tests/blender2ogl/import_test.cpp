@@ -154,3 +154,21 @@ TEST(Identifiers, OddNamesGiveValidDistinctStableIdentifiers) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace b2o::test;
+
+TEST(Import, TextureNextToAMtlInASubfolder) {
+  const auto dir = scratch("import_subfolder");
+  write_file(dir / "m.obj", "mtllib looks/m.mtl\no Sheet\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl P\nf 1 2 3\n");
+  write_file(dir / "looks" / "m.mtl", "newmtl P\nKd 1 1 1\nmap_Kd tex.png\n");
+  write_file(dir / "looks" / "tex.png", "not decoded, just bytes");
+  const auto s = b2o::conv::import_scene(dir / "m.obj", false);
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(std::string(s.textures[0].bytes.begin(), s.textures[0].bytes.end()), "not decoded, just bytes");
+  EXPECT_EQ(s.materials[0].diffuse_texture, 0);
+  EXPECT_TRUE(s.warnings.empty());
+}
+
+}  // namespace
