@@ -42,6 +42,9 @@ int run(const Options& opt, std::ostream& log) {
     write_outputs(opt.depfile.parent_path().empty() ? "." : opt.depfile.parent_path(),
                   {{opt.depfile.filename().string(), text}});
   }
+  if (opt.combined && scene.positions.size() / 3 > 100000)
+    scene.warnings.push_back(opt.input.string() + ": " + std::to_string(scene.positions.size() / 3) +
+                             " vertices as text (-c) compile slowly; the default (-s) links them as bytes");
   for (const std::string& w : scene.warnings) log << "blender2ogl: warning: " << w << "\n";
 
   if (opt.verbose) {
