@@ -21,22 +21,23 @@ bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; 
 
 // A random scene: an icosphere, a noisy floor, a soup of random triangles (some degenerate,
 // some duplicated) of varied sizes.
-ColliderSet random_scene(std::mt19937_64& rng) {
+ColliderSet random_scene(std::mt19937_64& rng, const Vector3d& offset = Vector3d::Zero()) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   ColliderSet set;
   const auto s = clothsim::meshes::icosphere(2, 0.5 + 0.5 * (u(rng) + 1.0),
-                                             Vector3d(u(rng), u(rng), u(rng)));
+                                             offset + Vector3d(u(rng), u(rng), u(rng)));
   set.add_object("sphere", s.vertices, s.indices);
 
   auto fl = clothsim::meshes::floor_grid(12, 2.0, -1.0);
   for (Eigen::Index i = 0; i < fl.vertices.cols(); ++i) fl.vertices(1, i) += 0.05 * u(rng);
+  fl.vertices.colwise() += offset;
   set.add_object("floor", fl.vertices, fl.indices);
 
   const int nt = 300;
   Eigen::Matrix3Xd v(3, 3 * nt);
   std::vector<std::uint32_t> idx;
   for (int t = 0; t < nt; ++t) {
-    const Vector3d c(1.5 * u(rng), 1.5 * u(rng), 1.5 * u(rng));
+    const Vector3d c = offset + Vector3d(1.5 * u(rng), 1.5 * u(rng), 1.5 * u(rng));
     const double size = 0.02 + 0.3 * (u(rng) + 1.0);
     for (int k = 0; k < 3; ++k) v.col(3 * t + k) = c + size * Vector3d(u(rng), u(rng), u(rng));
     if (t % 50 == 7) v.col(3 * t + 2) = v.col(3 * t);  // degenerate
@@ -51,10 +52,11 @@ ColliderSet random_scene(std::mt19937_64& rng) {
   return set;
 }
 
-Eigen::Matrix3Xd random_points(std::mt19937_64& rng, int n) {
+Eigen::Matrix3Xd random_points(std::mt19937_64& rng, int n,
+                               const Vector3d& offset = Vector3d::Zero()) {
   std::uniform_real_distribution<double> u(-2.2, 2.2);
   Eigen::Matrix3Xd x(3, n);
-  for (int i = 0; i < n; ++i) x.col(i) = Vector3d(u(rng), u(rng) * 0.7, u(rng));
+  for (int i = 0; i < n; ++i) x.col(i) = offset + Vector3d(u(rng), u(rng) * 0.7, u(rng));
   return x;
 }
 
@@ -64,9 +66,11 @@ TEST(CollisionBvh, SameClosestTriangleAsBruteForceOnRandomScenes) {
   std::mt19937_64 rng(12345);
   std::size_t compared = 0, hits = 0;
   for (int scene = 0; scene < 4; ++scene) {
-    const ColliderSet set = random_scene(rng);
+    // Two scenes far from the origin: float boxes and rounding margins at larger magnitudes.
+    const Vector3d offset = scene < 2 ? Vector3d::Zero() : Vector3d(1000.0, -500.0, 20000.0 * scene);
+    const ColliderSet set = random_scene(rng, offset);
     EXPECT_GT(set.degenerate_count(2), 0u);
-    const Eigen::Matrix3Xd x = random_points(rng, 2000);
+    const Eigen::Matrix3Xd x = random_points(rng, 2000, offset);
     std::vector<ColliderHit> a(set.object_count()), b(set.object_count());
     for (double radius : {0.05, 0.2, 1.0}) {
       for (Eigen::Index i = 0; i < x.cols(); ++i) {

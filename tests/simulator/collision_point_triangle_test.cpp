@@ -133,3 +133,22 @@ TEST(CollisionPointTriangle, BadInputIsRefusedNamingTheObject) {
   EXPECT_THROW(set.add_object("late", v, std::vector<std::uint32_t>{0, 1, 2}), std::logic_error);
   EXPECT_THROW(set.build(), std::logic_error);
 }
+
+TEST(CollisionPointTriangle, ObjectWithOnlyDegenerateTrianglesIsHarmless) {
+  Eigen::Matrix3Xd line(3, 3);
+  line << 0, 1, 2, 0, 0, 0, 0, 0, 0;
+  Eigen::Matrix3Xd v(3, 3);
+  v << 0, 1, 0, 0, 0, 1, 0, 0, 0;
+  clothsim::ColliderSet set;
+  set.add_object("line", line, std::vector<std::uint32_t>{0, 1, 2});
+  set.add_object("tri", v, std::vector<std::uint32_t>{0, 1, 2});
+  set.build();
+  EXPECT_EQ(set.triangle_count(0), 0u);
+  EXPECT_EQ(set.triangle_count(), 1u);
+  std::vector<clothsim::ColliderHit> out(2);
+  std::vector<std::int32_t> hints = {0, 0};
+  EXPECT_EQ(set.query(Vector3d(0.1, 0.1, 0.02), 0.1, out, clothsim::QueryMethod::Bvh, hints), 1u);
+  EXPECT_FALSE(out[0].valid());
+  EXPECT_EQ(out[1].object, 1);
+  EXPECT_EQ(hints[0], -1);
+}
