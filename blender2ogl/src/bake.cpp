@@ -4,7 +4,6 @@
 #include <cstring>
 #include <limits>
 #include <map>
-#include <set>
 #include <unordered_map>
 
 #include "converter.hpp"
@@ -47,10 +46,8 @@ std::uint32_t nearest_mass(const Cloth& c, const float* p, double& d2) {
 }
 
 const Object* find_object(const Scene& s, const std::string& want, const std::string& stem) {
-  for (const auto* pass : {&want}) {
-    for (const Object& o : s.objects)
-      if (o.name == *pass) return &o;
-  }
+  for (const Object& o : s.objects)
+    if (o.name == want) return &o;
   // the 2016 tool's `<file>_<Object>` form
   const std::string prefix = stem + "_";
   if (want.size() > prefix.size() && want.compare(0, prefix.size(), prefix) == 0) {

@@ -114,7 +114,6 @@ struct Layout {
 
 Layout collect(const Scene& s, bool combined) {
   Layout L;
-  const std::string p = combined ? std::string("detail::") : sym_prefix(s);
   auto add = [&](Array a, std::string text) -> std::string {
     if (a.count == 0) return "nullptr";
     a.text = std::move(text);
@@ -146,7 +145,6 @@ Layout collect(const Scene& s, bool combined) {
     ptr.pins = add(make_array(cp + "pins", "std::uint32_t", cl.pins), combined ? text_of(cl.pins) : "");
     L.cloths.push_back(ptr);
   }
-  (void)p;
   return L;
 }
 

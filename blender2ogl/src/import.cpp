@@ -9,7 +9,6 @@
 #include <fstream>
 #include <functional>
 #include <limits>
-#include <set>
 #include <sstream>
 
 #include "converter.hpp"
