@@ -42,6 +42,8 @@ Trajectory simulate(const Model& base, Integrator method, double dt, const Setti
   m.options.integrator = method;
   m.options.dt = dt;
   const long per_sample = std::lround(s.horizon / s.samples / dt);
+  if (std::abs(static_cast<double>(per_sample) * dt * s.samples - s.horizon) > 1e-9 * s.horizon)
+    throw std::logic_error("work-precision: dt does not divide the sample interval");
   Trajectory tr;
   tr.x.assign(static_cast<std::size_t>(s.samples), Eigen::Matrix3Xd());
   State st = make_state(m);
@@ -122,17 +124,17 @@ Result run(const Model& model, const std::string& scene, const Settings& s, std:
            << " springs; " << describe(stab, Integrator::SymplecticEuler) << "\n";
   const double dt_top = s.top_factor * r.dt_stable;
   const double dt_min = dt_top / std::pow(2.0, s.levels - 1);
-  // Every dt must land on the sample times: round the horizon to whole dt_top * samples.
-  Settings st = s;
-  const double unit = dt_top * s.samples;
-  st.horizon = std::max(1.0, std::round(s.horizon / unit)) * unit;
-  r.horizon = st.horizon;
   // The implicit methods start at dt_top * 2^j, as high as implicit_top_factor allows while
-  // a sample interval still holds a whole step.
+  // a sample interval still holds a whole step. Every dt must land exactly on the sample
+  // times: the horizon is a whole number of dt_top_implicit * samples.
+  Settings st = s;
   double dt_top_implicit = dt_top;
   while (2.0 * dt_top_implicit <= s.implicit_top_factor * r.dt_stable * (1 + 1e-9) &&
-         2.0 * dt_top_implicit <= st.horizon / s.samples * (1 + 1e-9))
+         2.0 * dt_top_implicit * s.samples <= s.horizon * (1 + 1e-9))
     dt_top_implicit *= 2.0;
+  const double unit = dt_top_implicit * s.samples;
+  st.horizon = std::max(1.0, std::round(s.horizon / unit)) * unit;
+  r.horizon = st.horizon;
 
   r.h_ref = dt_min / s.ref_refine;
   progress << "[" << scene << "] reference: rk4 at h_ref " << fmt(r.h_ref) << " s and h_ref/2 over "
