@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   CLI::App app{"viewer_probe: the viewer on a hand-made scene (tests only)"};
   clothsim::ViewerOptions vo;
   bool no_vsync = false, pin = false;
+  double dt = 0.0, k_struct = 0.0;
   app.add_option("--screenshot", vo.screenshot);
   app.add_option("--frames", vo.frames_dir);
   app.add_option("--fps", vo.fps);
@@ -26,12 +27,17 @@ int main(int argc, char** argv) {
   app.add_flag("--flat-cloth", vo.flat_cloth);
   app.add_flag("--hide-cloth", vo.hide_cloth);
   app.add_flag("--pin", pin, "pin one corner");
+  app.add_option("--dt", dt, "step size (default: the scene's)");
+  app.add_option("--k-struct", k_struct, "structural stiffness (default: the scene's)");
   app.footer(clothsim::viewer_help_text());
   CLI11_PARSE(app, argc, argv);
   vo.vsync = !no_vsync;
   try {
     clothsim::testing::HandScene hand(12, 1.6f, 1.2f, pin);
-    const clothsim::Model model = clothsim::build_model(hand.scene, clothsim::scene_options(hand.scene));
+    clothsim::Options options = clothsim::scene_options(hand.scene);
+    if (dt > 0.0) options.dt = dt;
+    if (k_struct > 0.0) options.k_struct = k_struct;
+    const clothsim::Model model = clothsim::build_model(hand.scene, options);
     return clothsim::run_viewer(hand.scene, model, vo);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "viewer_probe: %s\n", e.what());

@@ -180,6 +180,21 @@ TEST(ViewerProbe, BadInputGivesOneLineErrorAndNoFile) {
   EXPECT_NE(tiny.output.find("16..16384"), std::string::npos) << tiny.output;
 }
 
+TEST(ViewerProbe, NonFiniteStateIsAnErrorNotAPicture) {
+  // Springs so stiff that dt = 0.01 is 15x past the stable limit: the state overflows to
+  // inf/NaN within about a second of simulated time.
+  const std::string blow_up = q(g_probe) + " --k-struct 1e6 --width 64 --height 64 --seconds 30 ";
+  const fs::path shot = out("nan.png");
+  const Result r = run(blow_up + "--screenshot " + q(shot));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("non-finite"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(shot));
+  // In a window, a timed run stops at the blow-up and exits 1.
+  const Result w = run(blow_up + "--no-vsync");
+  EXPECT_EQ(w.code, 1) << w.output;
+  EXPECT_NE(w.output.find("(state non-finite)"), std::string::npos) << w.output;
+}
+
 TEST(ViewerProbe, NoDisplayIsAClearErrorNotACrash) {
   const Result r = run("env -u DISPLAY -u WAYLAND_DISPLAY " + q(g_probe) + " --screenshot " + q(out("nodisplay.png")));
   EXPECT_EQ(r.code, 1) << r.output;

@@ -202,6 +202,12 @@ class Viewer {
           if (!step(model_, state_, ws_).finite) {
             non_finite_ = true;
             paused_ = true;
+            std::fprintf(stderr, "clothsim: the simulation became non-finite at t = %.3f s (step %llu); "
+                         "paused, R resets (try a smaller --dt)\n", state_.t,
+                         static_cast<unsigned long long>(state_.steps));
+            // A timed run has nobody to press R: it ends, and the exit code says it failed.
+            if (opt_.seconds >= 0.0) glfwSetWindowShouldClose(window_, GLFW_TRUE);
+            update_title(0.0, 0.0, 0.0);
             break;
           }
         }
