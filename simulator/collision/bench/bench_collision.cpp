@@ -72,6 +72,8 @@ void run(benchmark::State& state, clothsim::QueryMethod method, bool hints, int 
     benchmark::DoNotOptimize(f.data());
   }
   state.counters["triangles"] = static_cast<double>(set.triangle_count());
+  state.counters["bytes_per_tri"] =
+      static_cast<double>(set.bvh_bytes()) / static_cast<double>(set.triangle_count());
   state.counters["s_per_query"] = benchmark::Counter(
       static_cast<double>(state.iterations()) * n,
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);

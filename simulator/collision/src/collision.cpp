@@ -237,6 +237,14 @@ void ColliderSet::build() {
     kept_total_ += kept.size();
     ob.root4 = nodes_[ob.root].leaf() ? nodes_[ob.root].packed : collapse(ob.root) << 3;
   }
+  // Queries need only each root's box and the 4-wide tree.
+  for (Object& ob : objects_)
+    if (ob.tri_end > ob.tri_begin) ob.root_box = nodes_[ob.root];
+  nodes_.clear();
+  nodes_.shrink_to_fit();
+  nodes4_.shrink_to_fit();
+  tri_.shrink_to_fit();
+  orig_.shrink_to_fit();
   // Padded, so the early-out never rejects what a query would find.
   lo_.array() -= max_pad;
   hi_.array() += max_pad;
@@ -349,13 +357,14 @@ std::uint32_t ColliderSet::build_node(std::uint32_t begin, std::uint32_t end,
     nodes_[self] = best;
     return self;
   }
-  // Median split along the longest centroid extent; ties in position broken by index so the
+  // Split near the median along the longest centroid extent; ties in position broken by index so the
   // tree does not depend on the standard library's nth_element.
   int axis = 0;
   const Eigen::Vector3d ext = chi - clo;
   if (ext[1] > ext[axis]) axis = 1;
   if (ext[2] > ext[axis]) axis = 2;
-  const std::uint32_t mid = begin + (end - begin) / 2;
+  // Left gets a multiple of the leaf size, so leaves are full (blocks of 4 slots well used).
+  const std::uint32_t mid = begin + kLeafSize * ((end - begin + 2 * kLeafSize - 1) / (2 * kLeafSize));
   std::nth_element(perm.begin() + begin, perm.begin() + mid, perm.begin() + end,
                    [&](std::uint32_t x, std::uint32_t y) {
                      const double cx = cent[3 * x + static_cast<std::uint32_t>(axis)];
@@ -454,7 +463,7 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
         4e-6 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
     double bound_for = best;
     float bound = prune_bound(best, margin);
-    if (box_dist_sq(nodes_[ob.root], pf) > bound) goto done;
+    if (box_dist_sq(ob.root_box, pf) > bound) goto done;
     stack[top++] = Entry{ob.root4, 0.0f};
     while (top > 0) {
       const Entry e = stack[--top];

@@ -100,10 +100,15 @@ struct ColliderSet {
   /// Corners of input triangle t of object o (as given, world space).
   void triangle(std::size_t o, std::size_t t, Eigen::Vector3d& a, Eigen::Vector3d& b,
                 Eigen::Vector3d& c) const;
-  /// Bounding box of every kept triangle (empty box when none).
+  /// Bounding box of every kept triangle, padded by 1e-9 of the coordinates (zero if none).
   Eigen::Vector3d bounds_min() const { return lo_; }
   Eigen::Vector3d bounds_max() const { return hi_; }
   std::size_t bvh_node_count() const { return nodes4_.size(); }  ///< 4-wide nodes
+  /// Bytes held by the query structures (triangle blocks, nodes, slot map), not the input copy.
+  std::size_t bvh_bytes() const {
+    return tri_.size() * sizeof(double) + nodes4_.size() * sizeof(Node4) +
+           orig_.size() * sizeof(std::int32_t);
+  }
 
   /// Per object, the closest kept triangle with distance <= radius. `out` must have
   /// object_count() entries; entries of objects with nothing in reach get object = -1.
@@ -153,6 +158,7 @@ struct ColliderSet {
     std::size_t kept = 0;                      ///< triangles kept by build()
     std::uint32_t root = 0;                    ///< binary node index (valid when tri_end > tri_begin)
     std::uint32_t root4 = 0;                   ///< its Node4 (or leaf) in Node::packed form
+    Node root_box{};                           ///< the root's box (the early-out per object)
     std::vector<std::int32_t> input_to_kept;   ///< input triangle -> kept slot, -1 if dropped
   };
   std::uint32_t build_node(std::uint32_t begin, std::uint32_t end, std::vector<double>& cent,
@@ -167,7 +173,7 @@ struct ColliderSet {
   std::vector<std::int32_t> orig_;     ///< per slot: input triangle index in its object, -1 unused
   std::size_t kept_total_ = 0;
   std::uint32_t collapse(std::uint32_t binary);
-  std::vector<Node> nodes_;    ///< the binary tree (build, and each object's root box)
+  std::vector<Node> nodes_;    ///< the binary tree, only during build()
   std::vector<Node4> nodes4_;  ///< what queries traverse
   Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), hi_ = Eigen::Vector3d::Zero();
 };
