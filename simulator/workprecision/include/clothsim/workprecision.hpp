@@ -50,7 +50,8 @@ struct Result {
   double smallest_error = 0.0;   ///< smallest resolved error shown
   std::vector<Point> points;
   std::vector<MethodSummary> summary;
-  double se_limit_seconds = 0.0; ///< symplectic Euler at 0.95 dt_stable: CPU time
+  double se_limit_dt = 0.0;      ///< s, the largest dt <= 0.95 dt_stable on the sample grid
+  double se_limit_seconds = 0.0; ///< symplectic Euler at se_limit_dt: CPU time
   double se_limit_error = 0.0;
   double speedup_1pc = 0.0;      ///< se_limit_seconds / best time_1pc (NaN if none)
   Integrator best_1pc{};
