@@ -11,15 +11,17 @@
 
 namespace {
 std::atomic<long> g_allocations{0};
-}
+// Called through a pointer so that GCC does not pair the inlined new/free (-Wmismatched-new-delete).
+void (*volatile g_free)(void*) = std::free;
+}  // namespace
 
 void* operator new(std::size_t n) {
   g_allocations.fetch_add(1, std::memory_order_relaxed);
   if (void* p = std::malloc(n ? n : 1)) return p;
   throw std::bad_alloc();
 }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p) noexcept { g_free(p); }
+void operator delete(void* p, std::size_t) noexcept { g_free(p); }
 
 namespace clothsim {
 namespace {

@@ -239,6 +239,11 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     for (const auto& k : unknown_params)
       std::cerr << "clothsim: note: scene '" << scene.name << "' bakes param '" << k << "', which is no simulator option\n";
 
+#ifdef CLOTHSIM_HAVE_VIEWER
+  if (!headless && (!report.empty() || o_export->count()))
+    return bad_input("--report and --export-obj belong to headless runs: add --headless");
+#endif
+
   Model model;
   try {
     model = build_model(scene, opts);
