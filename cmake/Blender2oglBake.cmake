@@ -85,7 +85,9 @@ function(blender2ogl_add_scene name)
     list(APPEND args -c)
     set(outputs "${out}/${name}.h")
   else()
-    set(outputs "${out}/${name}.h" "${out}/${name}.cpp" "${out}/${name}.S" "${out}/${name}.bin")
+    # The bulk bytes go to <name>.<hash>.bin, named by the header (a changed .bin is a changed
+    # header, which the .cpp and .S include: their depfiles re-build them).
+    set(outputs "${out}/${name}.h" "${out}/${name}.cpp" "${out}/${name}.S")
   endif()
   # The converter as a file dependency (re-bake when it is rebuilt) and, inside the
   # project, as a target dependency (build it first).
@@ -104,7 +106,7 @@ function(blender2ogl_add_scene name)
 
   add_library(scene_${name} STATIC ${outputs})
   add_library(blender2ogl::scene::${name} ALIAS scene_${name})
-  # The .S finds <name>.bin through this include directory.
+  # The .S (through the header) finds <name>.<hash>.bin through this include directory.
   target_include_directories(scene_${name} PUBLIC "${out}")
   if(TARGET blender2ogl::scene_types)
     target_link_libraries(scene_${name} PUBLIC blender2ogl::scene_types)

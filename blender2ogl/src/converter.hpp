@@ -147,6 +147,10 @@ std::vector<OutputFile> emit_scene(const Scene& scene, const Options& options);
 /// left alone). Returns how many files changed.
 int write_outputs(const std::filesystem::path& dir, const std::vector<OutputFile>& files);
 
+/// Deletes `<name>.<hash>.bin` files in `dir` that are not in `keep` (older bakes' bulk data,
+/// after the new header is in place).
+void remove_stale_bins(const std::filesystem::path& dir, const std::string& name, const std::vector<OutputFile>& keep);
+
 /// FNV-1a 64 of bytes, as 16 hex digits.
 std::string hash_hex(const std::string& bytes);
 

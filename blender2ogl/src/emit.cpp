@@ -1,6 +1,8 @@
-// emit: the generated C++. -s (default): <name>.h, <name>.cpp (small tables as text),
-// <name>.S + <name>.bin (bulk arrays as raw bytes through .incbin, never through the C++
-// parser). -c: one header with everything as text (exact hex-float literals), for small scenes.
+// emit: the generated C++. -s (default): <name>.h holds everything but the bulk bytes (small
+// tables as text, and the .incbin directives of the bulk arrays for the assembler, so bulk data
+// never goes through the C++ parser); <name>.cpp and <name>.S are fixed stubs including it;
+// <name>.<hash>.bin holds the bulk bytes. -c: one header with everything as text (exact
+// hex-float literals), for small scenes.
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
@@ -225,7 +227,11 @@ std::string scene_init(const Scene& s, const Layout& L, const std::string& q) {
   return o.str();
 }
 
-std::string header(const Scene& s, const Options& opt, const Layout* text_layout, const std::string& bake_id) {
+// -s: `asm_part` (the bulk arrays, read when the header is assembled through <name>.S) and
+// `definition` (the tables and the Scene, compiled once through <name>.cpp) live in the header
+// too, so the header alone says which bake is current: it is the commit point (docs/blender2ogl.md).
+std::string header(const Scene& s, const Options& opt, const Layout* text_layout, const std::string& bake_id,
+                   const std::string& asm_part = {}, const std::string& definition = {}) {
   const std::string guard = "B2O_GEN_" + upper(s.name) + "_H";
   const std::string ns = "b2o::gen::" + s.name;
   std::ostringstream h;
@@ -239,8 +245,10 @@ std::string header(const Scene& s, const Options& opt, const Layout* text_layout
     << "//\n"
     << "// Object and cloth indices below are named after the objects (cleaned into C++\n"
     << "// identifiers; Object::name keeps the name as written in the file).\n"
-    << "#ifndef " << guard << "\n#define " << guard << "\n\n"
-    << "#include <blender2ogl/scene_types.h>\n\n#include <cstdint>\n#include <cstring>\n\n"
+    << "#ifndef " << guard << "\n#define " << guard << "\n\n";
+  if (!bake_id.empty())
+    h << "#ifdef __ASSEMBLER__\n" << asm_part << "#else  // C++ from here on\n\n";
+  h << "#include <blender2ogl/scene_types.h>\n\n#include <cstdint>\n#include <cstring>\n\n"
     << "static_assert(::b2o::kFormatVersion == " << 1 << ", \"" << s.name
     << ".h was baked for scene format 1; re-run blender2ogl\");\n\n"
     << "namespace " << ns << " {\n\n";
@@ -255,7 +263,7 @@ std::string header(const Scene& s, const Options& opt, const Layout* text_layout
     << "inline constexpr std::uint32_t param_count = " << n(s.params.size()) << ";\n"
     << "inline constexpr bool has_vertex_mass = " << (opt.reverse_map ? "true" : "false") << ";\n";
   if (!bake_id.empty())
-    h << "/// Ties this header to the " << s.name << ".cpp/.S/.bin of the same bake (checked when they build).\n"
+    h << "/// Identifies this bake (its tables and bulk bytes).\n"
       << "inline constexpr std::uint64_t bake_id = 0x" << bake_id << "ull;\n";
   h << "\n";
   h << "/// Indices into scene.objects.\nnamespace object {\n";
@@ -294,7 +302,9 @@ std::string header(const Scene& s, const Options& opt, const Layout* text_layout
     << "  for (std::uint32_t i = 0; i < scene.param_count; ++i)\n"
     << "    if (std::strcmp(scene.params[i].key, key) == 0) return scene.params[i].value;\n"
     << "  return fallback;\n}\n\n"
-    << "}  // namespace " << ns << "\n\n#endif  // " << guard << "\n";
+    << "}  // namespace " << ns << "\n\n";
+  if (!bake_id.empty()) h << definition << "#endif  // __ASSEMBLER__\n";
+  h << "#endif  // " << guard << "\n";
   return h.str();
 }
 
@@ -321,47 +331,57 @@ std::vector<OutputFile> emit_scene(const Scene& s, const Options& opt) {
   for (const Array& a : L.arrays) total = (total + 15) / 16 * 16 + a.size;
   std::string bin;
   bin.reserve(total);
-  std::ostringstream asm_body;
+  std::vector<std::size_t> offsets;
   for (const Array& a : L.arrays) {
     bin.resize((bin.size() + 15) / 16 * 16, '\0');
-    asm_body << "\t.balign 16\n\t.globl " << a.symbol << "\n\t.type " << a.symbol << ", @object\n\t.size " << a.symbol
-             << ", " << a.size << "\n"
-             << a.symbol << ":\n\t.incbin \"" << s.name << ".bin\", " << bin.size() << ", " << a.size << "\n";
+    offsets.push_back(bin.size());
     bin.append(static_cast<const char*>(a.data), a.size);
   }
-  // One id for the whole set: a header, source, .S and .bin from different bakes fail to build.
+  // The .bin is named by its own hash: a new bake never overwrites the .bin an older header
+  // refers to, so the header (renamed last) switches the whole set at once.
   const std::string bin_hash = hash_hex(bin);
-  const std::string table_text = tables(s, L, "", "constexpr ") + scene_init(s, L, "");
-  const std::string id = hash_hex(bin_hash + table_text + header(s, opt, nullptr, ""));
+  const std::string bin_name = s.name + "." + bin_hash + ".bin";
+  const std::string table_defs = tables(s, L, "", "constexpr "), scene_def = scene_init(s, L, "");
+  const std::string id = hash_hex(bin_hash + table_defs + scene_def + header(s, opt, nullptr, ""));
   const std::string check_symbol = sym_prefix(s) + "bake_" + id;
-  asm_body << "\t.globl " << check_symbol << "\n\t.type " << check_symbol << ", @object\n\t.size " << check_symbol
-           << ", 1\n" << check_symbol << ":\n\t.byte 0\n";
-  files.push_back({s.name + ".h", header(s, opt, nullptr, id)});
-  std::ostringstream S;
-  S << "/* " << s.name << ".S: bulk arrays of scene " << s.name << ", baked by blender2ogl " << kVersion << " from "
-    << comment_safe(s.source) << ".\n"
-    << "   Generated: do not edit. The bytes come from " << s.name << ".bin (found through -I<dir>);\n"
-    << "   " << s.name << ".bin: " << bin.size() << " bytes, fnv1a64 " << bin_hash << " */\n"
-    << "\t.section .rodata.b2o." << s.name << ",\"a\",@progbits\n"
-    << asm_body.str() << "\t.section .note.GNU-stack,\"\",@progbits\n";
 
-  std::ostringstream c;
-  c << "// " << s.name << ".cpp: tables of the scene baked by blender2ogl " << kVersion << " from "
-    << comment_safe(s.source) << ".\n// Generated: do not edit.\n"
-    << "#include \"" << s.name << ".h\"\n\n"
-    << "static_assert(b2o::gen::" << s.name << "::bake_id == 0x" << id << "ull,\n              \"" << s.name
-    << ".h and " << s.name << ".cpp come from different bakes; re-run blender2ogl\");\n\n";
-  c << "// Bulk arrays, defined in " << s.name << ".S from the bytes of " << s.name << ".bin; the last symbol\n"
-    << "// exists only in the .S of the same bake (a mixed set fails to link).\nextern \"C\" {\n";
-  for (const Array& a : L.arrays) c << "extern const " << a.type << " " << a.symbol << "[];\n";
-  c << "extern const unsigned char " << check_symbol << "[];\n}\n\n";
-  c << "namespace b2o::gen::" << s.name << " {\nnamespace {\n" << tables(s, L, "", "constexpr ")
-    << "}  // namespace\n\nconst ::b2o::Scene scene = " << scene_init(s, L, "") << ";\n\n"
+  std::ostringstream S;
+  S << "/* Bulk arrays, assembled through " << s.name << ".S: the bytes of " << bin_name << "\n"
+    << "   (" << bin.size() << " bytes, fnv1a64 " << bin_hash << "), found through -I<dir>. */\n"
+    << "\t.section .rodata.b2o." << s.name << ",\"a\",@progbits\n";
+  for (std::size_t i = 0; i < L.arrays.size(); ++i) {
+    const Array& a = L.arrays[i];
+    S << "\t.balign 16\n\t.globl " << a.symbol << "\n\t.type " << a.symbol << ", @object\n\t.size " << a.symbol
+      << ", " << a.size << "\n"
+      << a.symbol << ":\n\t.incbin \"" << bin_name << "\", " << offsets[i] << ", " << a.size << "\n";
+  }
+  S << "\t.globl " << check_symbol << "\n\t.type " << check_symbol << ", @object\n\t.size " << check_symbol
+    << ", 1\n" << check_symbol << ":\n\t.byte 0\n"
+    << "\t.section .note.GNU-stack,\"\",@progbits\n";
+
+  const std::string define_macro = "B2O_" + upper(s.name) + "_DEFINE_SCENE";
+  std::ostringstream d;
+  d << "#ifdef " << define_macro << "\n"
+    << "// Compiled once, in " << s.name << ".cpp: the small tables as text; the bulk arrays are the\n"
+    << "// symbols of the assembler part above. The last symbol exists only in an object assembled\n"
+    << "// from this very header (a stale " << s.name << ".S object fails to link).\n"
+    << "extern \"C\" {\n";
+  for (const Array& a : L.arrays) d << "extern const " << a.type << " " << a.symbol << "[];\n";
+  d << "extern const unsigned char " << check_symbol << "[];\n}\n\n";
+  d << "namespace b2o::gen::" << s.name << " {\nnamespace {\n" << table_defs
+    << "}  // namespace\n\nconst ::b2o::Scene scene = " << scene_def << ";\n\n"
     << "extern const unsigned char* const bake_check;\nconst unsigned char* const bake_check = " << check_symbol
-    << ";\n\n}  // namespace b2o::gen::" << s.name << "\n";
-  files.push_back({s.name + ".cpp", c.str()});
-  files.push_back({s.name + ".S", S.str()});
-  files.push_back({s.name + ".bin", std::move(bin)});
+    << ";\n\n}  // namespace b2o::gen::" << s.name << "\n#endif  // " << define_macro << "\n";
+
+  files.push_back({s.name + ".h", header(s, opt, nullptr, id, S.str(), d.str())});
+  // Bake-independent stubs: their bytes depend on the name only, never on the bake.
+  files.push_back({s.name + ".cpp", "// " + s.name + ".cpp: defines the scene of " + s.name +
+                                        ".h (its tables are in the header). Generated: do not edit.\n#define " +
+                                        define_macro + "\n#include \"" + s.name + ".h\"\n"});
+  files.push_back({s.name + ".S", "/* " + s.name + ".S: the bulk arrays of " + s.name +
+                                      ".h (the directives are in the header). Generated: do not edit. */\n#include \"" +
+                                      s.name + ".h\"\n"});
+  files.push_back({bin_name, std::move(bin)});
   return files;
 }
 

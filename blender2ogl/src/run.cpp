@@ -32,6 +32,7 @@ int run(const Options& opt, std::ostream& log) {
   scene.timings_ms.emplace_back("emit", lap_ms(t1));
   const std::filesystem::path dir = opt.target_dir.empty() ? opt.input.parent_path() : opt.target_dir;
   const int changed = write_outputs(dir.empty() ? std::filesystem::path(".") : dir, files);
+  remove_stale_bins(dir.empty() ? std::filesystem::path(".") : dir, scene.name, files);
   scene.timings_ms.emplace_back("write", lap_ms(t1));
 
   if (!opt.depfile.empty()) {

@@ -86,7 +86,11 @@ TEST(Cli, HelpVersionAndStatistics) {
   fs::copy_file(fixture("plain.obj"), in / "plain.obj");
   ASSERT_EQ(run_converter({"-n", "flat", (in / "plain.obj").string()}).exit_code, 0);
   EXPECT_TRUE(fs::exists(in / "flat.h"));
-  EXPECT_TRUE(fs::exists(in / "flat.bin"));
+  EXPECT_TRUE(fs::exists(in / "flat.cpp"));
+  EXPECT_TRUE(fs::exists(in / "flat.S"));
+  int bins = 0;
+  for (const auto& e : fs::directory_iterator(in)) bins += e.path().extension() == ".bin";
+  EXPECT_EQ(bins, 1);
 }
 
 }  // namespace
@@ -141,12 +145,12 @@ TEST(Cli, FallbackMtlAndLoneCarriageReturnAreChecked) {
 TEST(Cli, FolderInAnOutputsPlaceChangesNothing) {
   const auto dir = scratch("cli_taken");
   ASSERT_EQ(run_converter({"-t", dir.string(), fixture("plain.obj").string()}).exit_code, 0);
-  fs::remove(dir / "plain.bin");
-  fs::create_directory(dir / "plain.bin");
+  fs::remove(dir / "plain.S");
+  fs::create_directory(dir / "plain.S");
   const auto before = snapshot(dir);
   const auto r = run_converter({"-a", "plain", "-t", dir.string(), fixture("plain.obj").string()});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find((dir / "plain.bin").string() + ": cannot write"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find((dir / "plain.S").string() + ": cannot write"), std::string::npos) << r.output;
   EXPECT_EQ(snapshot(dir), before);
 }
 

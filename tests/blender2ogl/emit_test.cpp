@@ -70,17 +70,33 @@ TEST(Emit, DeterministicAcrossRunsAndTargets) {
   for (std::size_t i = 0; i < f1.size(); ++i) EXPECT_EQ(f1[i].bytes, f2[i].bytes);
 }
 
-TEST(Emit, SHashChangesWithBin) {
+// -s: the header is the only file whose bytes name the bake; the .bin is named by its hash and
+// the .cpp/.S are stubs that never change (the set switches with the header's rename).
+TEST(Emit, BinNamedByItsHashStubsFixed) {
   conv::Options o;
   o.input = fixture("grid.obj");
   auto s = convert(o);
   const auto before = conv::emit_scene(s, o);
   s.positions[0] = 42.0f;
   const auto after = conv::emit_scene(s, o);
+  ASSERT_EQ(before.size(), 4u);
+  ASSERT_EQ(before[0].name, "grid.h");
+  ASSERT_EQ(before[1].name, "grid.cpp");
   ASSERT_EQ(before[2].name, "grid.S");
-  EXPECT_NE(before[3].bytes, after[3].bytes);
-  EXPECT_NE(before[2].bytes, after[2].bytes);  // the .S names the .bin's hash
-  EXPECT_NE(before[2].bytes.find(conv::hash_hex(before[3].bytes)), std::string::npos);
+  EXPECT_EQ(before[3].name, "grid." + conv::hash_hex(before[3].bytes) + ".bin");
+  EXPECT_EQ(after[3].name, "grid." + conv::hash_hex(after[3].bytes) + ".bin");
+  EXPECT_NE(before[3].name, after[3].name);
+  EXPECT_EQ(before[1].bytes, after[1].bytes);
+  EXPECT_EQ(before[2].bytes, after[2].bytes);
+  EXPECT_NE(before[0].bytes, after[0].bytes);
+  EXPECT_NE(before[0].bytes.find("\"" + before[3].name + "\""), std::string::npos);  // the header names its .bin
+  // the stubs depend on the name only: another scene's stubs are the same text renamed
+  conv::Options other;
+  other.input = fixture("ngons_crlf.obj");
+  other.name = "grid";
+  const auto third = conv::emit_scene(convert(other), other);
+  EXPECT_EQ(third[1].bytes, before[1].bytes);
+  EXPECT_EQ(third[2].bytes, before[2].bytes);
 }
 
 TEST(Write, FailedConversionLeavesTargetUntouched) {
@@ -109,6 +125,12 @@ TEST(Write, UnchangedFilesAreNotRewrittenAndNoTempFilesRemain) {
   ASSERT_EQ(run_converter({"-t", dir.string(), fixture("grid.obj").string()}).exit_code, 0);
   EXPECT_EQ(fs::last_write_time(dir / "grid.cpp"), old);
   for (const auto& e : fs::directory_iterator(dir)) EXPECT_NE(e.path().filename().string()[0], '.') << e.path();
+  EXPECT_EQ(snapshot(dir).size(), 4u);
+  // a different bake replaces the .bin (new name) and deletes the old one; the stubs stay
+  const auto cpp_before = read_file(dir / "grid.cpp");
+  ASSERT_EQ(run_converter({"-a", "Cloth", "-t", dir.string(), fixture("grid.obj").string()}).exit_code, 0);
+  EXPECT_EQ(fs::last_write_time(dir / "grid.cpp"), old);
+  EXPECT_EQ(read_file(dir / "grid.cpp"), cpp_before);
   EXPECT_EQ(snapshot(dir).size(), 4u);
 }
 

@@ -10,6 +10,72 @@
 #ifndef B2O_GEN_NGONS_H
 #define B2O_GEN_NGONS_H
 
+#ifdef __ASSEMBLER__
+/* Bulk arrays, assembled through ngons.S: the bytes of ngons.7c98a7ffa50dbd02.bin
+   (680 bytes, fnv1a64 7c98a7ffa50dbd02), found through -I<dir>. */
+	.section .rodata.b2o.ngons,"a",@progbits
+	.balign 16
+	.globl b2o_ngons_positions
+	.type b2o_ngons_positions, @object
+	.size b2o_ngons_positions, 144
+b2o_ngons_positions:
+	.incbin "ngons.7c98a7ffa50dbd02.bin", 0, 144
+	.balign 16
+	.globl b2o_ngons_normals
+	.type b2o_ngons_normals, @object
+	.size b2o_ngons_normals, 144
+b2o_ngons_normals:
+	.incbin "ngons.7c98a7ffa50dbd02.bin", 144, 144
+	.balign 16
+	.globl b2o_ngons_texcoords
+	.type b2o_ngons_texcoords, @object
+	.size b2o_ngons_texcoords, 96
+b2o_ngons_texcoords:
+	.incbin "ngons.7c98a7ffa50dbd02.bin", 288, 96
+	.balign 16
+	.globl b2o_ngons_indices
+	.type b2o_ngons_indices, @object
+	.size b2o_ngons_indices, 72
+b2o_ngons_indices:
+	.incbin "ngons.7c98a7ffa50dbd02.bin", 384, 72
+	.balign 16
+	.globl b2o_ngons_cloth0_rest_positions
+	.type b2o_ngons_cloth0_rest_positions, @object
+	.size b2o_ngons_cloth0_rest_positions, 48
+b2o_ngons_cloth0_rest_positions:
+	.incbin "ngons.7c98a7ffa50dbd02.bin", 464, 48
+	.balign 16
+	.globl b2o_ngons_cloth0_mass_vertex_offsets
+	.type b2o_ngons_cloth0_mass_vertex_offsets, @object
+	.size b2o_ngons_cloth0_mass_vertex_offsets, 20
+b2o_ngons_cloth0_mass_vertex_offsets:
+	.incbin "ngons.7c98a7ffa50dbd02.bin", 512, 20
+	.balign 16
+	.globl b2o_ngons_cloth0_mass_vertices
+	.type b2o_ngons_cloth0_mass_vertices, @object
+	.size b2o_ngons_cloth0_mass_vertices, 16
+b2o_ngons_cloth0_mass_vertices:
+	.incbin "ngons.7c98a7ffa50dbd02.bin", 544, 16
+	.balign 16
+	.globl b2o_ngons_cloth0_springs
+	.type b2o_ngons_cloth0_springs, @object
+	.size b2o_ngons_cloth0_springs, 96
+b2o_ngons_cloth0_springs:
+	.incbin "ngons.7c98a7ffa50dbd02.bin", 560, 96
+	.balign 16
+	.globl b2o_ngons_cloth0_triangles
+	.type b2o_ngons_cloth0_triangles, @object
+	.size b2o_ngons_cloth0_triangles, 24
+b2o_ngons_cloth0_triangles:
+	.incbin "ngons.7c98a7ffa50dbd02.bin", 656, 24
+	.globl b2o_ngons_bake_458f1accc7c24307
+	.type b2o_ngons_bake_458f1accc7c24307, @object
+	.size b2o_ngons_bake_458f1accc7c24307, 1
+b2o_ngons_bake_458f1accc7c24307:
+	.byte 0
+	.section .note.GNU-stack,"",@progbits
+#else  // C++ from here on
+
 #include <blender2ogl/scene_types.h>
 
 #include <cstdint>
@@ -28,7 +94,7 @@ inline constexpr std::uint32_t texture_count = 0u;
 inline constexpr std::uint32_t cloth_count = 1u;
 inline constexpr std::uint32_t param_count = 0u;
 inline constexpr bool has_vertex_mass = false;
-/// Ties this header to the ngons.cpp/.S/.bin of the same bake (checked when they build).
+/// Identifies this bake (its tables and bulk bytes).
 inline constexpr std::uint64_t bake_id = 0x458f1accc7c24307ull;
 
 /// Indices into scene.objects.
@@ -62,4 +128,60 @@ inline double param(const char* key, double fallback) noexcept {
 
 }  // namespace b2o::gen::ngons
 
+#ifdef B2O_NGONS_DEFINE_SCENE
+// Compiled once, in ngons.cpp: the small tables as text; the bulk arrays are the
+// symbols of the assembler part above. The last symbol exists only in an object assembled
+// from this very header (a stale ngons.S object fails to link).
+extern "C" {
+extern const float b2o_ngons_positions[];
+extern const float b2o_ngons_normals[];
+extern const float b2o_ngons_texcoords[];
+extern const std::uint32_t b2o_ngons_indices[];
+extern const float b2o_ngons_cloth0_rest_positions[];
+extern const std::uint32_t b2o_ngons_cloth0_mass_vertex_offsets[];
+extern const std::uint32_t b2o_ngons_cloth0_mass_vertices[];
+extern const ::b2o::Spring b2o_ngons_cloth0_springs[];
+extern const std::uint32_t b2o_ngons_cloth0_triangles[];
+extern const unsigned char b2o_ngons_bake_458f1accc7c24307[];
+}
+
+namespace b2o::gen::ngons {
+namespace {
+constexpr ::b2o::Material kMaterials[] = {
+    {"DefaultMaterial", {0x0p+0f, 0x0p+0f, 0x0p+0f}, {0x1.333334p-1f, 0x1.333334p-1f, 0x1.333334p-1f}, {0x0p+0f, 0x0p+0f, 0x0p+0f}, 0x0p+0f, 0x1p+0f, ::b2o::kNone},
+};
+constexpr ::b2o::Submesh kSubmeshes[] = {
+    {0u, 9u, 0},
+    {9u, 6u, 0},
+    {15u, 3u, 0},
+};
+constexpr ::b2o::Object kObjects[] = {
+    {"Penta Gon", "Penta_Gon", 0u, 5u, 0u, 9u, 0u, 1u, ::b2o::kNone},
+    {"class", "class_", 5u, 4u, 9u, 6u, 1u, 1u, 0},
+    {"Penta-Gon", "Penta_Gon_2", 9u, 3u, 15u, 3u, 2u, 1u, ::b2o::kNone},
+};
+constexpr ::b2o::Cloth kCloths[] = {
+    {1u, 4u, b2o_ngons_cloth0_rest_positions, b2o_ngons_cloth0_mass_vertex_offsets, b2o_ngons_cloth0_mass_vertices, nullptr,
+     6u, b2o_ngons_cloth0_springs, 5u, 2u, b2o_ngons_cloth0_triangles, 0u, nullptr},
+};
+}  // namespace
+
+const ::b2o::Scene scene = {
+    ::b2o::kFormatVersion, "ngons", "ngons_crlf.obj",
+    12u, b2o_ngons_positions, b2o_ngons_normals, b2o_ngons_texcoords,
+    18u, b2o_ngons_indices,
+    3u, kObjects,
+    3u, kSubmeshes,
+    1u, kMaterials,
+    0u, nullptr,
+    1u, kCloths,
+    0u, nullptr,
+};
+
+extern const unsigned char* const bake_check;
+const unsigned char* const bake_check = b2o_ngons_bake_458f1accc7c24307;
+
+}  // namespace b2o::gen::ngons
+#endif  // B2O_NGONS_DEFINE_SCENE
+#endif  // __ASSEMBLER__
 #endif  // B2O_GEN_NGONS_H
