@@ -99,8 +99,50 @@ void BM_BvhFar(benchmark::State& s) {  // nothing in reach: the root-box early-o
   run(s, clothsim::QueryMethod::Bvh, false, 4096, 2.0, 3.0);
 }
 
+// The 2016 skirt scene's colliders (FACTS.md): floor 18 x 18 quads (648 triangles) at
+// y = -2.33, icosphere 80 triangles r 0.87; 353 masses: 2/3 resting on the floor at d = 0.099
+// (eps - m g / k_rep with k_rep 1000), 1/3 at 0.05 outside the sphere's circumsphere (inside the
+// band of its flat faces). Time of one step's collision call; arg 1 = brute force.
+void BM_SkirtLike(benchmark::State& state) {
+  static const clothsim::ColliderSet set = [] {
+    clothsim::ColliderSet s;
+    const auto fl = clothsim::meshes::floor_grid(18, 10.0, -2.33);
+    const auto sp = clothsim::meshes::icosphere(1, 0.87, Eigen::Vector3d(0.04, -1.08, 0.03));
+    s.add_object("Grid", fl.vertices, fl.indices);
+    s.add_object("Icosphere", sp.vertices, sp.indices);
+    s.build();
+    return s;
+  }();
+  const bool brute = state.range(0) != 0;
+  const int n = 353;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::normal_distribution<double> g(0.0, 1.0);
+  Eigen::Matrix3Xd x(3, n), f = Eigen::Matrix3Xd::Zero(3, n);
+  for (int i = 0; i < n; ++i) {
+    if (i % 3 != 0) {
+      x.col(i) = Eigen::Vector3d(2.0 * u(rng), -2.33 + 0.099, 2.0 * u(rng));
+    } else {
+      Eigen::Vector3d d(g(rng), std::abs(g(rng)), g(rng));
+      x.col(i) = Eigen::Vector3d(0.04, -1.08, 0.03) + (0.87 + 0.05) * d.normalized();
+    }
+  }
+  std::vector<std::int32_t> h(brute ? 0 : static_cast<std::size_t>(n) * 2, -1);
+  clothsim::PenaltyStats stats;
+  for (auto _ : state) {
+    accumulate_penalty(set, x, kEps, kRep, f, stats, h,
+                       brute ? clothsim::QueryMethod::BruteForce : clothsim::QueryMethod::Bvh);
+    benchmark::DoNotOptimize(f.data());
+  }
+  state.counters["s_per_query"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * n,
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["contacts"] = static_cast<double>(stats.contacts);
+}
+
 }  // namespace
 
+BENCHMARK(BM_SkirtLike)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BruteForce)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Bvh)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BvhHints)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
