@@ -100,6 +100,7 @@ TEST(HardCase11, ConvergenceOrder) {
   EXPECT_NEAR(measured_order(Integrator::Midpoint, 0.01, 1.0), 2.0, 0.1);
   EXPECT_NEAR(measured_order(Integrator::RK4, 0.02, 1.0), 4.0, 0.3);
   EXPECT_NEAR(measured_order(Integrator::ImplicitEuler, 2.5e-4, 1.0), 1.0, 0.1);
+  EXPECT_NEAR(measured_order(Integrator::XPBD, 2.5e-4, 1.0), 1.0, 0.1);
 }
 
 TEST(Integrators, StableDtMatchesTheory) {

@@ -60,10 +60,10 @@ ImplicitStats implicit_stats(const IntegratorScratch& scratch) { return scratch.
 
 namespace {
 
-constexpr std::array<Integrator, 7> kAll = {
+constexpr std::array<Integrator, 8> kAll = {
     Integrator::SymplecticEuler, Integrator::ExplicitEuler, Integrator::Verlet,
     Integrator::Midpoint,        Integrator::RK4,           Integrator::ImplicitEuler,
-    Integrator::FastMassSpring};
+    Integrator::FastMassSpring,  Integrator::XPBD};
 
 // a = f / m row-wise; pinned masses have inv_mass 0.
 auto accel(const Model& model, const Eigen::Matrix3Xd& f) {
@@ -299,6 +299,37 @@ void fast_mass_spring(const Model& m, State& s, Workspace& ws, IntegratorScratch
   s.x = sc.xs;
 }
 
+// --- XPBD (Macklin, Mueller, Chentanez 2016; "Small Steps", Macklin et al. 2019) -----------
+
+void xpbd(const Model& m, State& s, Workspace& ws, IntegratorScratch& sc, double h) {
+  // Predict with every force but the springs (gravity, damping, contact, drag: explicit),
+  // then one Gauss-Seidel pass of compliant distance constraints, alpha = 1/k; lambda starts
+  // at 0 every step (one iteration per small step, as "Small Steps" recommends).
+  compute_forces(m, s.x, s.v, ws.f, ws);
+  sc.f2.setZero();
+  add_spring_forces(m, s.x, sc.f2);
+  sc.fext = ws.f - sc.f2;
+  sc.xs = s.x;  // x(t)
+  s.v.noalias() += h * accel(m, sc.fext);
+  s.x.noalias() += h * s.v;
+  const double inv_h2 = 1.0 / (h * h);
+  for (std::size_t k = 0; k < m.spring_count(); ++k) {
+    const auto a = m.spring_a[k], b = m.spring_b[k];
+    const double wa = m.inv_mass[a], wb = m.inv_mass[b];
+    const double ks = m.stiffness[static_cast<Eigen::Index>(k)];
+    if (ks <= 0.0 || wa + wb == 0.0) continue;
+    const Eigen::Vector3d e = s.x.col(a) - s.x.col(b);
+    const double len = e.norm();
+    if (len == 0.0) continue;  // no direction: no correction (as the force stage)
+    const double c = len - m.rest_length0[static_cast<Eigen::Index>(k)];
+    const double dlambda = -c / (wa + wb + inv_h2 / ks);
+    const Eigen::Vector3d corr = (dlambda / len) * e;
+    s.x.col(a) += wa * corr;
+    s.x.col(b) -= wb * corr;
+  }
+  s.v = (s.x - sc.xs) / h;
+}
+
 }  // namespace
 
 std::span<const Integrator> all_integrators() { return kAll; }
@@ -312,6 +343,7 @@ const char* to_string(Integrator method) {
     case Integrator::RK4: return "rk4";
     case Integrator::ImplicitEuler: return "implicit-euler";
     case Integrator::FastMassSpring: return "fast-mass-spring";
+    case Integrator::XPBD: return "xpbd";
   }
   return "unknown";
 }
@@ -370,6 +402,7 @@ void integrate(const Model& model, State& state, Workspace& ws) {
     case Integrator::RK4: rk4(model, state, ws, sc, h); break;
     case Integrator::ImplicitEuler: implicit_euler(model, state, ws, sc, h); break;
     case Integrator::FastMassSpring: fast_mass_spring(model, state, ws, sc, h); break;
+    case Integrator::XPBD: xpbd(model, state, ws, sc, h); break;
   }
   restore_pins(state, ws);
 }

@@ -170,6 +170,11 @@ double stable_dt(Integrator method, double omega, double zeta) {
         x1 = x + h * v1;
         break;
       }
+      case Integrator::XPBD: {  // one constraint: the projection is implicit Euler; damping explicit
+        x1 = (x + h * v - 2.0 * zeta * h * h * v) / (1.0 + h * h * w2);
+        v1 = (x1 - x) / h;
+        break;
+      }
       case Integrator::FastMassSpring: {  // springs and damping implicit, by local/global
         x1 = (x * (1.0 + 2.0 * zeta * h) + h * v) / (1.0 + 2.0 * zeta * h + h * h * w2);
         v1 = (x1 - x) / h;

@@ -154,7 +154,8 @@ Result run(const Model& model, const std::string& scene, const Settings& s, std:
     for (int k = 0; k < s.levels; ++k) {
       Point p;
       p.method = m;
-      const bool implicit = m == Integrator::ImplicitEuler || m == Integrator::FastMassSpring;
+      const bool implicit = m == Integrator::ImplicitEuler || m == Integrator::FastMassSpring ||
+                            m == Integrator::XPBD;
       p.dt = (implicit ? dt_top_implicit : dt_top) / std::pow(2.0, k);
       Trajectory warm = simulate(model, m, p.dt, st);  // warm-up; also gives the error
       p.finite = warm.finite;

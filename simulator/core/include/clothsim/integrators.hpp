@@ -14,6 +14,8 @@
 //                      h (f - h K v), matrix-free block-Jacobi CG; contact explicit
 //   fast-mass-spring   Liu et al. 2013: implicit Euler by local/global iterations with a
 //                      prefactored sparse Cholesky (rebuilt when dt or stiffness change)
+//   xpbd               Macklin et al. 2016/2019: springs as compliant constraints (alpha = 1/k),
+//                      one Gauss-Seidel pass per step: use it with small steps (substeps)
 #pragma once
 
 #include <clothsim/sim.hpp>

@@ -27,6 +27,7 @@ enum class Integrator : std::uint8_t {
   RK4,              ///< classic Runge-Kutta: order 4
   ImplicitEuler,    ///< Baraff & Witkin 1998: one Newton step, CG
   FastMassSpring,   ///< Liu et al. 2013: local/global with a prefactored Cholesky
+  XPBD,             ///< Macklin et al. 2016/2019: compliant springs, one iteration per (small) step
 };
 
 struct Options {
