@@ -3,7 +3,7 @@
 # usage: plot.sh CSV PNG TITLE REFCHECK   (REFCHECK: the reference check the tool printed)
 csv=$1; png=$2; title=$3; ref=$4
 d=$(mktemp -d)
-methods="symplectic-euler explicit-euler verlet midpoint rk4 implicit-euler fast-mass-spring"
+methods="symplectic-euler explicit-euler verlet midpoint rk4 implicit-euler fast-mass-spring xpbd"
 plot=""
 for m in $methods; do
   awk -F, -v m=$m -v r=$ref 'NR>1 && $1==m && $6==1 && $3<=1 && $3>=10*r {print $3, $4}' "$csv" > $d/$m.dat
