@@ -148,7 +148,7 @@ std::vector<OutputFile> emit_scene(const Scene& scene, const Options& options);
 int write_outputs(const std::filesystem::path& dir, const std::vector<OutputFile>& files);
 
 /// Deletes `<name>.<hash>.bin` files in `dir` that are not in `keep` (older bakes' bulk data,
-/// after the new header is in place).
+/// after the new header is in place) and temp files of `name`'s outputs left by a killed run.
 void remove_stale_bins(const std::filesystem::path& dir, const std::string& name, const std::vector<OutputFile>& keep);
 
 /// FNV-1a 64 of bytes, as 16 hex digits.

@@ -10,6 +10,7 @@
 #include <regex>
 #include <sstream>
 
+#include <signal.h>
 #include <unistd.h>
 
 #include "converter.hpp"
@@ -99,15 +100,20 @@ int write_outputs(const std::filesystem::path& dir, const std::vector<OutputFile
 
 void remove_stale_bins(const std::filesystem::path& dir, const std::string& name, const std::vector<OutputFile>& keep) {
   namespace fs = std::filesystem;
-  // Only names this converter makes for this scene: <name>.<16 hex digits>.bin.
-  const std::regex ours(name + R"(\.[0-9a-f]{16}\.bin)");
+  // Only names this converter makes for this scene: <name>.<16 hex digits>.bin, and temp files
+  // .<output>.tmp<pid>.<n> of a converter that was killed (its process is gone).
+  const std::string outputs = name + R"((\.[0-9a-f]{16}\.bin|\.h|\.cpp|\.S))";
+  const std::regex ours(name + R"(\.[0-9a-f]{16}\.bin)"), temp("\\." + outputs + R"(\.tmp([0-9]{1,9})\.[0-9]+)");
   std::error_code ec;
   std::vector<fs::path> stale;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string file = it->path().filename().string();
     bool kept = false;
     for (const OutputFile& f : keep) kept = kept || f.name == file;
-    if (!kept && std::regex_match(file, ours) && it->is_regular_file(ec)) stale.push_back(it->path());
+    std::smatch m;
+    const bool dead_temp = std::regex_match(file, m, temp) && std::stol(m[2].str()) != ::getpid() &&
+                           ::kill(static_cast<pid_t>(std::stol(m[2].str())), 0) != 0 && errno == ESRCH;
+    if (((!kept && std::regex_match(file, ours)) || dead_temp) && it->is_regular_file(ec)) stale.push_back(it->path());
   }
   for (const fs::path& p : stale) {
     file_operation();

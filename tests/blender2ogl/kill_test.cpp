@@ -121,9 +121,10 @@ TEST(Kill, EveryKillPointLeavesAllOldOrAllNewAndItBuilds) {
       const bool from_new = new_set.count(name) && new_set.at(name) == bytes;
       EXPECT_TRUE(from_old || from_new) << name;
     }
-    // The next run completes the bake and removes what the old one left.
+    // The next run completes the bake and removes what the killed one left (temp files too).
     ASSERT_EQ(convert_into(target, kNew).exit_code, 0);
     EXPECT_EQ(visible(target), new_set);
+    for (const auto& e : fs::directory_iterator(target)) EXPECT_NE(e.path().filename().string()[0], '.') << e.path();
   }
   ASSERT_GE(operations, 5) << "temp .bin and .h, two renames, one delete";
   ASSERT_EQ(new_at.size(), static_cast<std::size_t>(operations));
