@@ -183,8 +183,8 @@ TEST(BadInput, UnwritableTarget) {
   }
 }
 
-// A folder in place of one output (model.bin): refused before anything is replaced (found here
-// first: the renames used to leave new .h/.cpp/.S next to the old .bin).
+// A folder in place of one output (the header, the set's commit point): refused before anything
+// is replaced (found here first: the renames used to leave new files next to old ones).
 TEST(BadInput, OutputNameTakenByFolderChangesNothing) {
   TempDir work("taken");
   const fs::path input = work.path / "model.obj";
@@ -192,12 +192,18 @@ TEST(BadInput, OutputNameTakenByFolderChangesNothing) {
   const fs::path target = work.path / "out";
   fill_with_old_outputs(target, "model");
   reliability::write_file(input, kTriangle + "o Second\nv 5 5 5\nv 6 5 5\nv 5 6 5\nf 4 5 6\n");
-  fs::remove(target / "model.bin");
-  fs::create_directory(target / "model.bin");
-  const auto before = reliability::snapshot(target);
-  const Result r = reliability::run({kExe, "-t", target.string(), input.string()});
-  expect_one_line_error(r, "model.bin", "cannot write");
-  EXPECT_EQ(reliability::snapshot(target), before);
+  for (const char* taken : {"model.h", "model.cpp"}) {
+    SCOPED_TRACE(taken);
+    const std::string keep = reliability::read_file(target / taken);
+    fs::remove(target / taken);
+    fs::create_directory(target / taken);
+    const auto before = reliability::snapshot(target);
+    const Result r = reliability::run({kExe, "-t", target.string(), input.string()});
+    expect_one_line_error(r, taken, "cannot write");
+    EXPECT_EQ(reliability::snapshot(target), before);
+    fs::remove(target / taken);
+    reliability::write_file(target / taken, keep);
+  }
 }
 
 // A .mtl or texture that cannot be read (a folder in its place) is treated like a missing one:
