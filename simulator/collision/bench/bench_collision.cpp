@@ -55,18 +55,26 @@ Eigen::Matrix3Xd shell_points(int n, double lo, double hi, std::uint64_t seed, b
 }
 
 void run(benchmark::State& state, clothsim::QueryMethod method, bool hints, int n, double lo,
-         double hi, bool coherent = true) {
+         double hi, bool coherent = true, double step = 1e-3, bool use_cache = false) {
   const auto& set = sphere(static_cast<int>(state.range(0)));
   // Two nearby configurations (~1 mm apart), alternated when hints are used.
   const Eigen::Matrix3Xd xa = shell_points(n, lo, hi, 42, coherent);
-  const Eigen::Matrix3Xd xb = xa + 1e-3 * shell_points(n, 0.0, 1.0, 7, false);
+  const Eigen::Matrix3Xd xb = xa + step * shell_points(n, 0.0, 1.0, 7, false);
+  clothsim::ContactCache cache;
+  cache.resize(static_cast<std::size_t>(n), set.object_count());
+  std::size_t certified = 0;
   Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, n);
   std::vector<std::int32_t> h(hints ? static_cast<std::size_t>(n) : 0, -1);
   clothsim::PenaltyStats stats;
   std::size_t contacts = 0;
   bool odd = false;
   for (auto _ : state) {
-    accumulate_penalty(set, hints && odd ? xb : xa, kEps, kRep, f, stats, h, method);
+    if (use_cache) {
+      accumulate_penalty(set, odd ? xb : xa, kEps, kRep, f, stats, cache, method);
+      certified += stats.certified;
+    } else {
+      accumulate_penalty(set, hints && odd ? xb : xa, kEps, kRep, f, stats, h, method);
+    }
     odd = !odd;
     contacts += stats.contacts;
     benchmark::DoNotOptimize(f.data());
@@ -77,6 +85,9 @@ void run(benchmark::State& state, clothsim::QueryMethod method, bool hints, int 
   state.counters["s_per_query"] = benchmark::Counter(
       static_cast<double>(state.iterations()) * n,
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  if (use_cache)
+    state.counters["certified"] =
+        static_cast<double>(certified) / (static_cast<double>(state.iterations()) * n);
   state.counters["contact_ratio"] = static_cast<double>(contacts) /
                                     (static_cast<double>(state.iterations()) * n);
 }
@@ -92,6 +103,12 @@ void BM_Bvh(benchmark::State& s) {
 void BM_BvhHints(benchmark::State& s) {
   run(s, clothsim::QueryMethod::Bvh, true, 4096, 1.0 - 1.5 * kEps, 1.0 + 1.5 * kEps);
 }
+void BM_CacheMoving(benchmark::State& s) {  // ContactCache, points 1 mm apart per call
+  run(s, clothsim::QueryMethod::Bvh, false, 4096, 1.0 - 1.5 * kEps, 1.0 + 1.5 * kEps, true, 1e-3, true);
+}
+void BM_CacheResting(benchmark::State& s) {  // ContactCache, points 1 um apart per call
+  run(s, clothsim::QueryMethod::Bvh, false, 4096, 1.0 - 1.5 * kEps, 1.0 + 1.5 * kEps, true, 1e-6, true);
+}
 void BM_BvhHintsShuffled(benchmark::State& s) {  // no memory coherence between points
   run(s, clothsim::QueryMethod::Bvh, true, 4096, 1.0 - 1.5 * kEps, 1.0 + 1.5 * kEps, false);
 }
@@ -102,7 +119,8 @@ void BM_BvhFar(benchmark::State& s) {  // nothing in reach: the root-box early-o
 // The 2016 skirt scene's colliders (FACTS.md): floor 18 x 18 quads (648 triangles) at
 // y = -2.33, icosphere 80 triangles r 0.87; 353 masses: 2/3 resting on the floor at d = 0.099
 // (eps - m g / k_rep with k_rep 1000), 1/3 at 0.05 outside the sphere's circumsphere (inside the
-// band of its flat faces). Time of one step's collision call; arg 1 = brute force.
+// band of its flat faces). Time of one step's collision call; arg 0 = BVH + hints,
+// 1 = brute force, 2 = ContactCache (masses at rest: the same positions every call).
 void BM_SkirtLike(benchmark::State& state) {
   static const clothsim::ColliderSet set = [] {
     clothsim::ColliderSet s;
@@ -113,7 +131,7 @@ void BM_SkirtLike(benchmark::State& state) {
     s.build();
     return s;
   }();
-  const bool brute = state.range(0) != 0;
+  const bool brute = state.range(0) == 1, cached = state.range(0) == 2;
   const int n = 353;
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -129,9 +147,14 @@ void BM_SkirtLike(benchmark::State& state) {
   }
   std::vector<std::int32_t> h(brute ? 0 : static_cast<std::size_t>(n) * 2, -1);
   clothsim::PenaltyStats stats;
+  clothsim::ContactCache cache;
+  cache.resize(static_cast<std::size_t>(n), set.object_count());
   for (auto _ : state) {
-    accumulate_penalty(set, x, kEps, kRep, f, stats, h,
-                       brute ? clothsim::QueryMethod::BruteForce : clothsim::QueryMethod::Bvh);
+    if (cached)
+      accumulate_penalty(set, x, kEps, kRep, f, stats, cache);
+    else
+      accumulate_penalty(set, x, kEps, kRep, f, stats, h,
+                         brute ? clothsim::QueryMethod::BruteForce : clothsim::QueryMethod::Bvh);
     benchmark::DoNotOptimize(f.data());
   }
   state.counters["s_per_query"] = benchmark::Counter(
@@ -142,10 +165,12 @@ void BM_SkirtLike(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_SkirtLike)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SkirtLike)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BruteForce)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Bvh)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BvhHints)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_CacheMoving)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_CacheResting)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BvhHintsShuffled)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BvhFar)->Arg(6)->Unit(benchmark::kMicrosecond);
 

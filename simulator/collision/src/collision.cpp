@@ -415,10 +415,17 @@ std::uint32_t ColliderSet::collapse(std::uint32_t b) {
 }
 
 ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double radius_sq,
-                                      QueryMethod method, std::int32_t hint) const {
+                                      QueryMethod method, std::int32_t hint,
+                                      double* others_lb) const {
   const Object& ob = objects_[o];
   ColliderHit hit;
+  if (others_lb) *others_lb = std::numeric_limits<double>::infinity();
   if (ob.tri_end == ob.tri_begin) return hit;
+  // For others_lb: the smallest distance^2 of a tested triangle that is not the answer, and the
+  // smallest float box distance^2 of a pruned subtree.
+  double other_d2 = std::numeric_limits<double>::infinity();
+  float pruned_f = std::numeric_limits<float>::infinity();
+  double margin = 0.0;
   double best = radius_sq;
   std::int32_t best_tri = std::numeric_limits<std::int32_t>::max();
   std::uint32_t best_slot = 0;
@@ -436,8 +443,13 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
     double s, v, w;
     TriangleRegion region;
     const double d2 = detail::closest_sq(p, t, s, v, w, region);
-    if (d2 <= radius_sq && better(d2, orig_[slot], best, best_tri)) {
-      best = d2, best_tri = orig_[slot], best_slot = slot, best_s = s, found = true;
+    const std::int32_t idx = orig_[slot];
+    if (found && idx == best_tri) return;  // the hint, met again in the tree
+    if (d2 <= radius_sq && better(d2, idx, best, best_tri)) {
+      if (found) other_d2 = std::min(other_d2, best);
+      best = d2, best_tri = idx, best_slot = slot, best_s = s, found = true;
+    } else {
+      other_d2 = std::min(other_d2, d2);
     }
   };
 
@@ -459,15 +471,21 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
     int top = 0;
     const float pf[3] = {static_cast<float>(p[0]), static_cast<float>(p[1]),
                          static_cast<float>(p[2])};
-    const double margin =
-        4e-6 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
+    margin = 4e-6 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
     double bound_for = best;
     float bound = prune_bound(best, margin);
-    if (box_dist_sq(ob.root_box, pf) > bound) goto done;
+    const float root_d2 = box_dist_sq(ob.root_box, pf);
+    if (root_d2 > bound) {
+      pruned_f = root_d2;
+      goto done;
+    }
     stack[top++] = Entry{ob.root4, 0.0f};
     while (top > 0) {
       const Entry e = stack[--top];
-      if (e.d2 > bound) continue;
+      if (e.d2 > bound) {
+        pruned_f = std::min(pruned_f, e.d2);
+        continue;
+      }
       if ((e.ref & 7u) != 0) {  // leaf
         for (std::uint32_t slot = e.ref >> 3, end = slot + (e.ref & 7u); slot < end; ++slot)
           test(slot);
@@ -494,10 +512,20 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
           int j = np++;
           for (; j > 0 && pass[j - 1].d2 < d2[k]; --j) pass[j] = pass[j - 1];
           pass[j] = Entry{n.child[k], d2[k]};
+        } else if (n.h[0][k] >= 0.0f) {  // a real box (empty lanes have h < 0)
+          pruned_f = std::min(pruned_f, static_cast<float>(d2[k]));
         }
       for (int k = 0; k < np; ++k) stack[top++] = pass[k];
     }
   done:;
+  }
+  if (others_lb) {
+    // Float box distances back to a safe lower bound of true distances (see prune_bound()).
+    const double box_lb =
+        std::isinf(pruned_f)
+            ? std::numeric_limits<double>::infinity()
+            : std::max(0.0, std::sqrt(static_cast<double>(pruned_f)) * (1.0 - 1e-5) - margin);
+    *others_lb = std::min(std::sqrt(other_d2), box_lb);
   }
   if (!found) return hit;
   hit.object = static_cast<std::int32_t>(o);
@@ -542,9 +570,57 @@ ColliderHit ColliderSet::closest(const Eigen::Vector3d& p, double radius,
   return best;
 }
 
-void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, double eps,
-                        double k_rep, Eigen::Matrix3Xd& f, PenaltyStats& stats,
-                        std::span<std::int32_t> hints, QueryMethod method) {
+ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double radius_sq,
+                                      QueryMethod method, ContactCache::Entry& e,
+                                      bool& certified) const {
+  const Object& ob = objects_[o];
+  certified = false;
+  if (e.tri >= -1) {
+    const double dx = p[0] - e.x0[0], dy = p[1] - e.x0[1], dz = p[2] - e.x0[2];
+    const double moved = std::sqrt(dx * dx + dy * dy + dz * dz);
+    // Rounding of the computed distances, far below any useful gap.
+    const double m = 1e-10 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
+    if (e.tri == -1) {
+      if (std::sqrt(radius_sq) + moved + m < e.others_lb) {
+        certified = true;
+        return ColliderHit{};
+      }
+    } else {
+      const std::int32_t slot = ob.input_to_kept[static_cast<std::size_t>(e.tri)];
+      const double* b = &tri_[12 * (static_cast<std::uint32_t>(slot) & ~(kBlock - 1)) +
+                              (static_cast<std::uint32_t>(slot) & (kBlock - 1))];
+      const detail::Tri t{b[0],          b[kBlock],      b[2 * kBlock],  b[3 * kBlock],
+                          b[4 * kBlock], b[5 * kBlock],  b[6 * kBlock],  b[7 * kBlock],
+                          b[8 * kBlock], b[9 * kBlock],  b[10 * kBlock], b[11 * kBlock]};
+      double s, v, w;
+      TriangleRegion region;
+      const double d2 = detail::closest_sq(p, t, s, v, w, region);
+      // Every other triangle is now >= others_lb - moved away: this one is strictly closest.
+      if (d2 <= radius_sq && std::sqrt(d2) + moved + m < e.others_lb) {
+        certified = true;
+        ColliderHit hit;
+        hit.object = static_cast<std::int32_t>(o);
+        hit.triangle = e.tri;
+        hit.distance_sq = d2;
+        hit.signed_distance = detail::signed_distance(d2, s);
+        hit.normal = Eigen::Vector3d(b[9 * kBlock], b[10 * kBlock], b[11 * kBlock]);
+        return hit;
+      }
+    }
+  }
+  double lb = 0.0;
+  const ColliderHit hit = query_object(o, p, radius_sq, method, e.tri >= 0 ? e.tri : -1, &lb);
+  e.x0[0] = p[0], e.x0[1] = p[1], e.x0[2] = p[2];
+  e.others_lb = lb;
+  e.tri = hit.triangle;
+  return hit;
+}
+
+namespace {
+
+void accumulate_impl(const ColliderSet& set, const Eigen::Matrix3Xd& x, double eps, double k_rep,
+                     Eigen::Matrix3Xd& f, PenaltyStats& stats, std::span<std::int32_t> hints,
+                     ContactCache* cache, QueryMethod method) {
   if (!set.built()) throw std::logic_error("accumulate_penalty(): ColliderSet not built");
   if (!(eps > 0.0) || !std::isfinite(eps) || !(k_rep >= 0.0) || !std::isfinite(k_rep))
     throw std::invalid_argument("accumulate_penalty(): need eps > 0 and k_rep >= 0, finite");
@@ -554,6 +630,8 @@ void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, doubl
   const auto n = static_cast<std::size_t>(x.cols());
   if (!hints.empty() && hints.size() != n * no)
     throw std::invalid_argument("accumulate_penalty(): hints need points * objects entries");
+  if (cache && cache->entries.size() != n * no)
+    throw std::invalid_argument("accumulate_penalty(): ContactCache needs resize(points, objects)");
   stats = PenaltyStats{};
   if (no == 0 || set.triangle_count() == 0) return;
 
@@ -563,18 +641,25 @@ void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, doubl
   for (std::size_t i = 0; i < n; ++i) {
     const auto ii = static_cast<Eigen::Index>(i);
     const double p[3] = {x(0, ii), x(1, ii), x(2, ii)};
-    if (!std::isfinite(p[0] + p[1] + p[2])) {
-      ++stats.nonfinite_points;
-      continue;
-    }
-    if (box_dist_sq(lo, hi, p) > reach_sq) {  // far from every collider
+    const bool finite = std::isfinite(p[0] + p[1] + p[2]);
+    if (!finite || box_dist_sq(lo, hi, p) > reach_sq) {  // NaN, or far from every collider
+      if (!finite) ++stats.nonfinite_points;
       if (!hints.empty()) std::fill_n(hints.begin() + static_cast<std::ptrdiff_t>(i * no), no, -1);
+      if (cache)
+        for (std::size_t o = 0; o < no; ++o) cache->entries[i * no + o].tri = -2;
       continue;
     }
     for (std::size_t o = 0; o < no; ++o) {
-      const std::int32_t hint = hints.empty() ? -1 : hints[i * no + o];
-      const ColliderHit h = set.query_object(o, p, reach_sq, method, hint);
-      if (!hints.empty()) hints[i * no + o] = h.triangle;
+      ColliderHit h;
+      if (cache) {
+        bool certified = false;
+        h = set.query_cached(o, p, reach_sq, method, cache->entries[i * no + o], certified);
+        if (certified) ++stats.certified;
+      } else {
+        const std::int32_t hint = hints.empty() ? -1 : hints[i * no + o];
+        h = set.query_object(o, p, reach_sq, method, hint);
+        if (!hints.empty()) hints[i * no + o] = h.triangle;
+      }
       if (!h.valid()) continue;
       const double d = h.signed_distance;
       if (d < 0.0) stats.max_penetration = std::max(stats.max_penetration, -d);
@@ -587,6 +672,20 @@ void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, doubl
       f.col(ii) += (k_rep * (eps - d)) * h.normal;
     }
   }
+}
+
+}  // namespace
+
+void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, double eps,
+                        double k_rep, Eigen::Matrix3Xd& f, PenaltyStats& stats,
+                        std::span<std::int32_t> hints, QueryMethod method) {
+  accumulate_impl(set, x, eps, k_rep, f, stats, hints, nullptr, method);
+}
+
+void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, double eps,
+                        double k_rep, Eigen::Matrix3Xd& f, PenaltyStats& stats,
+                        ContactCache& cache, QueryMethod method) {
+  accumulate_impl(set, x, eps, k_rep, f, stats, {}, &cache, method);
 }
 
 }  // namespace clothsim

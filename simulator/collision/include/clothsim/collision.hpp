@@ -68,6 +68,23 @@ struct PenaltyStats {
   std::size_t contacts = 0;      ///< (point, object) pairs with -eps <= d <= eps (a force)
   std::size_t tunnelled = 0;     ///< (point, object) pairs with -2 eps <= d < -eps (no force)
   std::size_t nonfinite_points = 0;  ///< points with a NaN/inf coordinate (skipped)
+  std::size_t certified = 0;  ///< (point, object) pairs answered from a ContactCache certificate
+};
+
+/// Per (point, object) memory between calls that lets accumulate_penalty() skip the search
+/// when a point has moved less than the gap between its closest triangle and every other one
+/// (a certificate: the answer is exactly the one the search would give). Size it once with
+/// resize(points, objects) (allocates); then calls never allocate.
+struct ContactCache {
+  struct Entry {
+    double x0[3] = {0.0, 0.0, 0.0};  ///< where the certificate was made
+    double others_lb = 0.0;          ///< every other triangle was at least this far from x0
+    std::int32_t tri = -2;           ///< closest input triangle then, -1: none in reach, -2: no certificate
+  };
+  std::vector<Entry> entries;  ///< point-major: entries[i * objects + o]
+  void resize(std::size_t points, std::size_t objects) {
+    entries.assign(points * objects, Entry{});
+  }
 };
 
 /// Static collider triangles in world space, grouped by object, with a BVH per object.
@@ -144,8 +161,14 @@ struct ColliderSet {
     std::uint32_t child[4];  ///< Node::packed form: leaf triangles, or a Node4 index << 3
   };
   /// One object's query; `hint` is an input triangle index or -1. Returns hit or invalid.
+  /// `others_lb`, if given, receives a lower bound of the distance of every kept triangle of
+  /// the object other than the one returned (of all of them when none is returned).
   ColliderHit query_object(std::size_t o, const double p[3], double radius_sq, QueryMethod method,
-                           std::int32_t hint) const;
+                           std::int32_t hint, double* others_lb = nullptr) const;
+  /// query_object() through a certificate: reuses e's answer when provably unchanged,
+  /// otherwise searches and renews e. `certified` tells which.
+  ColliderHit query_cached(std::size_t o, const double p[3], double radius_sq, QueryMethod method,
+                           ContactCache::Entry& e, bool& certified) const;
 
  private:
   struct Object {
@@ -190,5 +213,12 @@ void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, doubl
                         double k_rep, Eigen::Matrix3Xd& f, PenaltyStats& stats,
                         std::span<std::int32_t> hints = {},
                         QueryMethod method = QueryMethod::Bvh);
+
+/// The same, with a ContactCache (resized to x.cols() x set.object_count()) instead of hints:
+/// bit-identical forces and stats (but `certified`), much less work for points that move
+/// little between calls (cloth at rest). Throws std::invalid_argument on a wrong cache size.
+void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, double eps,
+                        double k_rep, Eigen::Matrix3Xd& f, PenaltyStats& stats,
+                        ContactCache& cache, QueryMethod method = QueryMethod::Bvh);
 
 }  // namespace clothsim
