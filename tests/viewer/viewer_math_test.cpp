@@ -226,6 +226,14 @@ TEST(Framing, CoversTheClothAndTheFloorBelowButNotTheWholeFloor) {
   EXPECT_NEAR(hi.z(), 0.88, 1e-6);
 }
 
+TEST(Framing, APinnedClothGetsRoomToHangBelow) {
+  clothsim::testing::HandScene h(6, 1.6f, 1.2f, /*pin_corner=*/true);
+  const clothsim::Model model = hand_model(h);
+  Eigen::Vector3d lo, hi;
+  cv::framing_box(h.scene, model, lo, hi);
+  EXPECT_NEAR(lo.y(), (1.2 - 0.15 * 0.8) - 1.6, 1e-5);  // its lowest rest point minus its width
+}
+
 TEST(Picking, RayFromAboveHitsTheMassUnderIt) {
   clothsim::testing::HandScene h(6, 1.0f, 1.0f);
   const clothsim::Model model = hand_model(h);

@@ -90,6 +90,10 @@ void framing_box(const b2o::Scene& scene, const Model& model, Eigen::Vector3d& l
       hi = hi.cwiseMax(model.x0.col(r.first_mass + m));
     }
   const bool have_cloth = lo.x() <= hi.x();
+  // A pinned cloth hangs: leave room below it for its own width.
+  bool pinned = false;
+  for (std::uint8_t p : model.pinned) pinned = pinned || p != 0;
+  if (have_cloth && pinned) lo.y() -= std::max(hi.x() - lo.x(), hi.z() - lo.z());
   Eigen::Vector3d c_lo = lo, c_hi = hi;
   if (have_cloth) {  // the horizontal window in which colliders count
     const Eigen::Vector3d mid = 0.5 * (lo + hi), half = 0.55 * (hi - lo);

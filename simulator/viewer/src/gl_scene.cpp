@@ -32,7 +32,7 @@ void main() {
 }
 )";
 
-// Blinn-Phong with a key and a fill light; two-sided: back faces use the flipped normal.
+// Blinn-Phong with a key, a head and a fill light; two-sided: back faces use the flipped normal.
 const char* kMeshFs = R"(#version 330 core
 in vec3 v_pos;
 in vec3 v_nrm;
@@ -58,9 +58,10 @@ void main() {
   vec3 n = normalize(v_nrm);
   if (!gl_FrontFacing) n = -n;
   vec3 v = normalize(u_eye - v_pos);
-  vec3 c = 0.25 * base;
-  c += light(n, v, normalize(vec3(0.35, 0.9, 0.45)), base, 0.8);
-  c += light(n, v, normalize(vec3(-0.6, 0.3, -0.5)), base, 0.3);
+  vec3 c = 0.2 * base;
+  c += light(n, v, normalize(vec3(0.35, 0.9, 0.45)), base, 0.65);  // key, from above
+  c += light(n, v, v, base, 0.35);                                    // headlight: what faces you is lit
+  c += light(n, v, normalize(vec3(-0.6, 0.3, -0.5)), base, 0.2);    // fill
   o_color = vec4(min(c, vec3(1.0)), 1.0);
 }
 )";

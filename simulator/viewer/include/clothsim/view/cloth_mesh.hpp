@@ -36,7 +36,7 @@ void accumulate_mass_normals(const State& state, std::uint32_t first, const std:
 
 /// The box the start view frames: the cloths at rest plus the colliders below/around them
 /// (collider triangles within 1.1x the cloths' horizontal extent, clipped to it), so a 20 m floor does not
-/// shrink the cloth to a dot. Whole scene when there is no cloth.
+/// shrink the cloth to a dot; a pinned cloth gets room to hang below. Whole scene when there is no cloth.
 void framing_box(const b2o::Scene& scene, const Model& model, Eigen::Vector3d& lo,
                  Eigen::Vector3d& hi);
 
