@@ -11,7 +11,6 @@
 namespace clothsim::view {
 
 std::string check_model_matches_scene(const b2o::Scene& scene, const Model& model) {
-  if (model.x0.cols() == 0) return "the model has no masses";
   for (std::size_t c = 0; c < model.cloths.size(); ++c) {
     const ClothRange& r = model.cloths[c];
     if (r.first_mass + r.mass_count > model.mass_count())

@@ -180,6 +180,9 @@ void RenderTarget::release() {
 bool RenderTarget::resize(int w, int h) {
   if (w <= 0 || h <= 0) return true;  // minimised: keep the old target
   if (w == width && h == height && fbo_) return true;
+  GLint max_size = 0;
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+  if (w > max_size || h > max_size) return false;
   release();
   width = w;
   height = h;

@@ -89,7 +89,9 @@ class Viewer {
     Eigen::Vector3d lo, hi;
     view::framing_box(scene_, model_, lo, hi);
     camera_.frame(lo, hi, static_cast<double>(fw) / std::max(fh, 1));
-    gpu_.target.resize(fw, fh);
+    if (!gpu_.target.resize(fw, fh))
+      throw std::runtime_error("cannot make a " + std::to_string(fw) + "x" + std::to_string(fh) +
+                               " OpenGL framebuffer (too large for this GL?)");
     gpu_.upload_state(scene_, model_, state_, true);
     return offscreen ? run_offscreen() : run_interactive();
   }
@@ -401,9 +403,10 @@ class Viewer {
 };
 
 std::string check_options(const ViewerOptions& o) {
-  if (o.width < 16 || o.width > 16384 || o.height < 16 || o.height > 16384)
+  // 8192 keeps a 4x multisampled target under ~2 GB; GL may allow less (checked at resize).
+  if (o.width < 16 || o.width > 8192 || o.height < 16 || o.height > 8192)
     return "window size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
-           " is outside 16..16384";
+           " is outside 16..8192";
   if (!o.frames_dir.empty() && (o.fps < 1 || o.fps > 1000))
     return "--fps " + std::to_string(o.fps) + " is outside 1..1000";
   if (!o.frames_dir.empty() && !(o.seconds >= 0.0))
