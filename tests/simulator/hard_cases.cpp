@@ -136,8 +136,13 @@ TEST(HardCase02, ThreeTimesTheLimitIsSubsteppedOrRefused) {
   const SubstepPlan off = plan_substeps(dt, r.dt_stable, parse_substeps("off"));
   EXPECT_FALSE(off.ok);
   EXPECT_NE(off.message.find("dt_stable"), std::string::npos) << off.message;
-  EXPECT_FALSE(plan_substeps(dt, r.dt_stable, parse_substeps("2")).ok);
-  EXPECT_TRUE(plan_substeps(dt, r.dt_stable, parse_substeps("4")).ok);
+  // an explicit count is taken as asked, with a warning when it is above the limit
+  const SubstepPlan two = plan_substeps(dt, r.dt_stable, parse_substeps("2"));
+  EXPECT_TRUE(two.ok);
+  EXPECT_NE(two.message.find("warning"), std::string::npos) << two.message;
+  const SubstepPlan four = plan_substeps(dt, r.dt_stable, parse_substeps("4"));
+  EXPECT_TRUE(four.ok);
+  EXPECT_TRUE(four.message.empty()) << four.message;
   EXPECT_THROW(parse_substeps("many"), std::invalid_argument);
   EXPECT_THROW(parse_substeps("0"), std::invalid_argument);
 }

@@ -288,12 +288,14 @@ SubstepPlan plan_substeps(double dt, double dt_stable, const SubstepPolicy& poli
   }
   plan.h = dt / plan.substeps;
   if (policy.mode != SubstepPolicy::Mode::Auto && !(plan.h < dt_stable)) {
-    plan.ok = false;
+    // off: refuse. N: the user's explicit choice is taken, with a warning (a blow-up is then
+    // caught by step()'s finite check and reported, never passed on).
+    plan.ok = policy.mode == SubstepPolicy::Mode::Fixed;
     std::snprintf(buf, sizeof buf,
-                  "step %.4g s is not below the stability limit dt_stable %.4g s (h omega_max "
+                  "%sstep %.4g s is not below the stability limit dt_stable %.4g s (h omega_max "
                   "too large; the run would blow up): use a smaller dt, --substeps auto or "
                   "--substeps %d",
-                  plan.h, dt_stable,
+                  plan.ok ? "warning: " : "", plan.h, dt_stable,
                   dt_stable > 0.0 ? static_cast<int>(std::ceil(dt / (policy.margin * dt_stable))) : 0);
     plan.message = buf;
   }

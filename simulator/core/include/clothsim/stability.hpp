@@ -71,7 +71,8 @@ struct SubstepPolicy {
 SubstepPolicy parse_substeps(std::string_view text);
 
 struct SubstepPlan {
-  bool ok = true;          ///< false: refused; `message` says why and gives the limit
+  bool ok = true;          ///< false: refused (off, or auto beyond max_substeps); `message` says why
+                           ///< and gives the limit. A fixed count above the limit is ok + a warning.
   int substeps = 1;        ///< steps of h = dt / substeps per requested dt
   double h = 0.0;          ///< s
   std::string message;     ///< empty, a note (auto substepping) or the refusal
