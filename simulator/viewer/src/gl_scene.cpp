@@ -5,6 +5,7 @@
 #include <clothsim/view/cloth_mesh.hpp>
 #include <clothsim/viewer.hpp>
 
+#include <stb/stb_easy_font.h>
 #include <stb/stb_image.h>
 
 #include <algorithm>
@@ -98,6 +99,18 @@ out vec4 o_color;
 void main() {
   vec3 ground = vec3(0.80, 0.79, 0.74), sky = vec3(0.55, 0.66, 0.82);
   o_color = vec4(mix(ground, sky, smoothstep(0.0, 1.0, v_y)), 1.0);
+}
+)";
+
+// Text quads from stb_easy_font, in pixels (y down), scaled up on large windows.
+const char* kTextVs = R"(#version 330 core
+layout(location = 0) in vec2 a_pos;
+uniform vec2 u_screen;
+uniform vec2 u_offset;
+uniform float u_scale;
+void main() {
+  vec2 p = u_scale * a_pos + u_offset;
+  gl_Position = vec4(2.0 * p.x / u_screen.x - 1.0, 1.0 - 2.0 * p.y / u_screen.y, 0.0, 1.0);
 }
 )";
 
@@ -247,6 +260,10 @@ GlScene::~GlScene() {
   glDeleteProgram(mesh_prog_);
   glDeleteProgram(line_prog_);
   glDeleteProgram(bg_prog_);
+  glDeleteProgram(text_prog_);
+  const GLuint text_bufs[] = {text_vbo_, text_ebo_};
+  glDeleteBuffers(2, text_bufs);
+  glDeleteVertexArrays(1, &text_vao_);
   const GLuint bufs[] = {pos_vbo_, nrm_vbo_, uv_vbo_, ebo_, mass_vbo_, spring_ebo_, drag_vbo_};
   glDeleteBuffers(7, bufs);
   const GLuint vaos[] = {mesh_vao_, spring_vao_, drag_vao_, bg_vao_};
@@ -318,6 +335,19 @@ void GlScene::init(const b2o::Scene& scene, const Model& model) {
   glGenVertexArrays(1, &drag_vao_);
   glBindVertexArray(drag_vao_);
   attribute(drag_vbo_, 0, 3, nullptr, 2, GL_DYNAMIC_DRAW);
+
+  text_prog_ = program(kTextVs, kLineFs, "text");
+  text_screen_ = glGetUniformLocation(text_prog_, "u_screen");
+  text_color_ = glGetUniformLocation(text_prog_, "u_color");
+  text_offset_ = glGetUniformLocation(text_prog_, "u_offset");
+  glGenVertexArrays(1, &text_vao_);
+  glBindVertexArray(text_vao_);
+  glGenBuffers(1, &text_vbo_);
+  glBindBuffer(GL_ARRAY_BUFFER, text_vbo_);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 16, nullptr);  // x, y of stb's (x, y, z, rgba)
+  glGenBuffers(1, &text_ebo_);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, text_ebo_);
 
   glGenVertexArrays(1, &bg_vao_);  // core profiles draw nothing without a bound VAO
   glBindVertexArray(0);
@@ -435,8 +465,36 @@ void GlScene::draw(const b2o::Scene& scene, const Model& model, const Eigen::Mat
     glDisable(GL_PROGRAM_POINT_SIZE);
     glEnable(GL_DEPTH_TEST);
   }
+  if (!flags.overlay.empty()) draw_text(flags.overlay);
   glBindVertexArray(0);
   target.resolve();
+}
+
+void GlScene::draw_text(const std::string& text) {
+  static std::vector<char> quads(16 * 4 * 4000);  // stb_easy_font: 4 vertices of 16 bytes per quad
+  std::string copy = text;                         // stb wants a mutable char*
+  const int n = stb_easy_font_print(0.0f, 0.0f, copy.data(), nullptr, quads.data(), static_cast<int>(quads.size()));
+  std::vector<std::uint32_t> tris;
+  tris.reserve(6 * static_cast<std::size_t>(n));
+  for (std::uint32_t q = 0; q < static_cast<std::uint32_t>(n); ++q)
+    tris.insert(tris.end(), {4 * q, 4 * q + 1, 4 * q + 2, 4 * q, 4 * q + 2, 4 * q + 3});
+  glDisable(GL_DEPTH_TEST);
+  glUseProgram(text_prog_);
+  glBindVertexArray(text_vao_);
+  glBindBuffer(GL_ARRAY_BUFFER, text_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(64 * static_cast<std::size_t>(n)), quads.data(), GL_STREAM_DRAW);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(tris.size() * sizeof(std::uint32_t)), tris.data(),
+               GL_STREAM_DRAW);
+  glUniform2f(text_screen_, static_cast<float>(target.width), static_cast<float>(target.height));
+  glUniform1f(glGetUniformLocation(text_prog_, "u_scale"), target.width >= 900 ? 2.0f : 1.0f);
+  // A dark shadow one pixel off, then the text: readable on sky and on cloth.
+  const float shadow[3] = {0.05f, 0.05f, 0.1f}, ink[3] = {1.0f, 1.0f, 1.0f};
+  for (int pass = 0; pass < 2; ++pass) {
+    glUniform2f(text_offset_, pass == 0 ? 11.0f : 10.0f, pass == 0 ? 11.0f : 10.0f);
+    glUniform3fv(text_color_, 1, pass == 0 ? shadow : ink);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(tris.size()), GL_UNSIGNED_INT, nullptr);
+  }
+  glEnable(GL_DEPTH_TEST);
 }
 
 }  // namespace clothsim::view

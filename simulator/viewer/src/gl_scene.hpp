@@ -6,6 +6,7 @@
 #include <GL/glew.h>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace b2o { struct Scene; }
@@ -21,6 +22,7 @@ struct RenderFlags {
   bool springs = false;
   bool flat_cloth = false;
   bool hide_cloth = false;
+  std::string overlay;  ///< text drawn top-left (lines split by '\n'); empty: none
   std::int32_t drag_mass = -1;
   Eigen::Vector3d drag_target = Eigen::Vector3d::Zero();
 };
@@ -75,6 +77,9 @@ class GlScene {
   GLuint spring_vao_ = 0, mass_vbo_ = 0, spring_ebo_ = 0;
   GLuint drag_vao_ = 0, drag_vbo_ = 0;
   GLuint bg_vao_ = 0;
+  GLuint text_prog_ = 0, text_vao_ = 0, text_vbo_ = 0, text_ebo_ = 0;
+  GLint text_screen_ = -1, text_color_ = -1, text_offset_ = -1;
+  void draw_text(const std::string& text);
   std::vector<GLuint> textures_;
   std::size_t structural_springs_ = 0, bend_springs_ = 0;
   bool code_built_cloth_ = false;  // a cloth with no scene mesh: always drawn as springs

@@ -34,6 +34,7 @@ const char* viewer_help_text() {
          "  W              wireframe on/off\n"
          "  S              show springs (structural red, bend green)\n"
          "  P              screenshot: clothsim_NNNN.png in the current directory\n"
+         "  H              text overlay (time, rates, keys) on/off\n"
          "  Esc or Q       quit\n"
          "  left drag      on the cloth: pull that point; elsewhere: orbit\n"
          "  right drag     orbit\n"
@@ -150,6 +151,7 @@ class Viewer {
 
   // --- interactive -----------------------------------------------------------------------
   int run_interactive() {
+    interactive_ = true;
     glfwSetWindowUserPointer(window_, this);
     glfwSetFramebufferSizeCallback(window_, [](GLFWwindow* w, int width, int height) {
       static_cast<Viewer*>(glfwGetWindowUserPointer(w))->gpu_.target.resize(width, height);
@@ -209,7 +211,7 @@ class Viewer {
                          static_cast<unsigned long long>(state_.steps));
             // A timed run has nobody to press R: it ends, and the exit code says it failed.
             if (opt_.seconds >= 0.0) glfwSetWindowShouldClose(window_, GLFW_TRUE);
-            update_title(0.0, 0.0, 0.0);
+            update_title();
             break;
           }
         }
@@ -254,17 +256,25 @@ class Viewer {
     return non_finite_ ? 1 : 0;
   }
 
+  // Keys redraw the title with the last measured rates (they are measured every 0.5 s).
+  void update_title() { update_title(last_sps_, last_ms_, last_realtime_); }
+
   void update_title(double steps_per_s, double ms_per_step, double realtime) {
-    char buf[512];
+    last_sps_ = steps_per_s;
+    last_ms_ = ms_per_step;
+    last_realtime_ = realtime;
+    char stats[256];
     const char* status = non_finite_ ? " | NON-FINITE STATE: paused (R resets)"
                          : paused_   ? " | paused"
                          : clock_.behind() ? " | slower than real time"
                                            : "";
-    std::snprintf(buf, sizeof buf,
-                  "clothsim %s | t %.2f s | %.0f steps/s | %.2f ms/step | %.2fx real time%s | "
-                  "Space pause  N step  R reset  W wire  S springs  P shot  Esc quit",
+    std::snprintf(stats, sizeof stats,
+                  "clothsim %s | t %.2f s | %.0f steps/s | %.2f ms/step | %.2fx real time%s",
                   model_.scene_name.c_str(), state_.t, steps_per_s, ms_per_step, realtime, status);
-    glfwSetWindowTitle(window_, buf);
+    const std::string keys = "Space pause  N step  R reset  W wire  S springs  P shot  H text  Esc quit";
+    glfwSetWindowTitle(window_, (std::string(stats) + " | " + keys).c_str());
+    overlay_ = std::string(stats) + "\n" + keys +
+               "\nleft drag: pull the cloth (elsewhere: orbit)  right: orbit  middle/Shift: pan  wheel: zoom";
   }
 
   void save_numbered_screenshot() {
@@ -309,9 +319,12 @@ class Viewer {
       case GLFW_KEY_P:
         if (action == GLFW_PRESS) screenshot_request_ = true;
         break;
+      case GLFW_KEY_H:
+        if (action == GLFW_PRESS) show_overlay_ = !show_overlay_;
+        break;
       default: break;
     }
-    update_title(0.0, 0.0, 0.0);
+    update_title();
   }
 
   view::Ray cursor_ray() const {
@@ -375,6 +388,7 @@ class Viewer {
     flags.springs = show_springs_;
     flags.flat_cloth = opt_.flat_cloth;
     flags.hide_cloth = opt_.hide_cloth;
+    if (interactive_ && show_overlay_) flags.overlay = overlay_;
     flags.drag_mass = dragging_ ? state_.drag.mass : -1;
     flags.drag_target = state_.drag.target;
     const double aspect = static_cast<double>(gpu_.target.width) / std::max(gpu_.target.height, 1);
@@ -397,6 +411,9 @@ class Viewer {
   long pending_steps_ = 0;
   bool wireframe_ = false, show_springs_ = false, screenshot_request_ = false;
   bool dragging_ = false;
+  bool interactive_ = false, show_overlay_ = true;
+  std::string overlay_;
+  double last_sps_ = 0.0, last_ms_ = 0.0, last_realtime_ = 0.0;
   double drag_depth_ = 0.0;
   Mouse mode_ = Mouse::None;
   double cursor_x_ = 0.0, cursor_y_ = 0.0;
