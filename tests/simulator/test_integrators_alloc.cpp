@@ -1,0 +1,60 @@
+// The integrators never allocate after their first step (the scratch is made once, on first
+// use): this executable replaces the global operator new and counts.
+#include "inline_scenes.hpp"
+
+#include <clothsim/collision.hpp>
+#include <clothsim/integrators.hpp>
+#include <clothsim/step.hpp>
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+namespace {
+std::atomic<long> g_allocations{0};
+void (*volatile g_free)(void*) = std::free;  // through a pointer: no new/free pairing warning
+}  // namespace
+
+void* operator new(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { g_free(p); }
+void operator delete(void* p, std::size_t) noexcept { g_free(p); }
+
+namespace clothsim {
+namespace {
+
+long allocations_in_steps(Integrator method) {
+  Options o;
+  o.integrator = method;
+  o.dt = method == Integrator::ExplicitEuler ? 1e-4 : 0.002;
+  ModelBuilder mb(o, "grid on a floor");
+  const auto springs = test::grid_springs(8, 8);
+  mb.add_cloth(test::grid_positions(8, 8, 0.1, 0.12), springs, std::vector<std::uint32_t>{0});
+  auto floor = std::make_shared<ColliderSet>();
+  Eigen::Matrix3Xd fv(3, 4);
+  fv << -5, 5, 5, -5, 0, 0, 0, 0, -5, -5, 5, 5;
+  floor->add_object("floor", fv, std::vector<std::uint32_t>{0, 2, 1, 0, 3, 2});
+  floor->build();
+  mb.set_colliders(floor);
+  const Model m = mb.build();
+  State s = make_state(m);
+  Workspace ws = make_workspace(m);
+  step(m, s, ws);  // warm-up: makes the scratch (and the fast mass-spring factorization)
+  const long before = g_allocations.load();
+  for (int i = 0; i < 100; ++i)
+    if (!step(m, s, ws).finite) return -1;
+  return g_allocations.load() - before;
+}
+
+TEST(Integrators, NeverAllocateAfterTheFirstStep) {
+  // all of them, the implicit ones included (matrix-free CG; the prefactored Cholesky's solves)
+  for (Integrator method : all_integrators())
+    EXPECT_EQ(allocations_in_steps(method), 0) << to_string(method);
+}
+
+}  // namespace
+}  // namespace clothsim
