@@ -72,7 +72,8 @@ ImplicitStats implicit_stats(const IntegratorScratch& scratch);
 
 /// Advances state.x/state.v by model.options.dt with model.options.integrator (any method
 /// but SymplecticEuler, which step() does itself). Pinned masses keep their exact bits.
-/// Does not touch state.t/steps (step() does). The explicit methods never allocate.
+/// Does not touch state.t/steps (step() does). Never allocates after the first call
+/// (tests/simulator/test_integrators_alloc.cpp).
 void integrate(const Model& model, State& state, Workspace& ws);
 
 }  // namespace clothsim
