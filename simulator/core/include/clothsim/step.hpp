@@ -9,6 +9,17 @@
 
 namespace clothsim {
 
+/// Per-mass spring lists (CSR) for the gathered spring forces: the springs of mass i are
+/// other[start[i] .. start[i+1]) / spring[...], in increasing spring index, so every mass sums
+/// its springs in the seed's scatter order whatever the thread count. Built from the Model once.
+struct SpringAdjacency {
+  std::vector<std::uint32_t> start;   ///< (n + 1)
+  std::vector<std::uint32_t> other;   ///< (2 s) the mass at the spring's other end
+  std::vector<std::uint32_t> spring;  ///< (2 s) the spring index
+  static SpringAdjacency build(const Model& model);
+  std::size_t bytes() const { return (start.size() + other.size() + spring.size()) * sizeof(std::uint32_t); }
+};
+
 /// Scratch memory for step(), sized once from a Model so that step() never allocates.
 struct Workspace {
   Eigen::Matrix3Xd f;                        ///< (3 x n) total force at the current stage, N
@@ -18,6 +29,10 @@ struct Workspace {
   Drag drag;                                 ///< the drag of the state being stepped
   double last_penetration = 0.0;             ///< m, deepest point behind a collider in the last force stage
   std::uint32_t last_contacts = 0;           ///< points inside a collider band in the last force stage
+  /// The gathered spring forces (performance, issue 6); shared by copies of the Workspace.
+  /// Without it (a Workspace not made by make_workspace) the forces use the scatter loop.
+  std::shared_ptr<const SpringAdjacency> adjacency;
+  std::vector<double> spring_c;              ///< (s) k (l - |dx|) / |dx| of each spring, 0 if |dx| = 0
   /// Scratch of the other integrators (integrators.hpp); shared by copies of the Workspace.
   std::shared_ptr<struct IntegratorScratch> integrator_scratch;
 };
@@ -35,8 +50,19 @@ void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::
 /// One step of report eqs. 1-7 (no time bookkeeping; step() does that).
 void step_symplectic_euler(const Model& model, State& state, Workspace& ws);
 
-/// Adds the spring forces of report eq. 4 to f.
+/// Adds the spring forces of report eq. 4 to f: the plain scatter loop over springs (the
+/// reference the gathered version is tested and benchmarked against).
 void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f);
+
+/// The same sums through ws.adjacency (a per-mass gather, threaded, bit-identical to the
+/// scatter loop for every thread count); falls back to the scatter without an adjacency.
+void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
+                       Workspace& ws);
+
+/// Threads used by step()'s force and update loops (OpenMP; 1 without it). Results are
+/// bit-identical for every count. Default 1; n <= 0 means all the machine's cores.
+void set_threads(int n);
+int threads();
 
 /// 1/2 sum m |v|^2 over the free masses, J.
 double kinetic_energy(const Model& model, const State& state);
