@@ -5,12 +5,18 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <stdexcept>
 #include <sstream>
 #include <string>
 
 #ifdef _OPENMP
 #include <omp.h>
+#endif
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define CLOTHSIM_AVX2 1
 #endif
 
 #ifdef CLOTHSIM_HAVE_COLLISION
@@ -44,6 +50,7 @@ int threads() { return g_threads.load(); }
 
 SpringAdjacency SpringAdjacency::build(const Model& model) {
   const std::size_t n = model.mass_count(), s_count = model.spring_count();
+  if (s_count >= kB) throw std::length_error("clothsim: more than 2^31 - 1 springs");
   SpringAdjacency a;
   a.start.assign(n + 1, 0);
   for (std::size_t s = 0; s < s_count; ++s) {
@@ -51,15 +58,11 @@ SpringAdjacency SpringAdjacency::build(const Model& model) {
     ++a.start[model.spring_b[s] + 1];
   }
   for (std::size_t i = 0; i < n; ++i) a.start[i + 1] += a.start[i];
-  a.other.resize(2 * s_count);
-  a.spring.resize(2 * s_count);
+  a.entry.resize(2 * s_count);
   std::vector<std::uint32_t> fill(a.start.begin(), a.start.end() - 1);
   for (std::size_t s = 0; s < s_count; ++s) {  // increasing s: the scatter's order per mass
-    const std::uint32_t ma = model.spring_a[s], mb = model.spring_b[s];
-    a.other[fill[ma]] = mb;
-    a.spring[fill[ma]++] = static_cast<std::uint32_t>(s);
-    a.other[fill[mb]] = ma;
-    a.spring[fill[mb]++] = static_cast<std::uint32_t>(s);
+    a.entry[fill[model.spring_a[s]]++] = static_cast<std::uint32_t>(s);
+    a.entry[fill[model.spring_b[s]]++] = static_cast<std::uint32_t>(s) | kB;
   }
   return a;
 }
@@ -76,7 +79,7 @@ Workspace make_workspace(const Model& model) {
   const auto n = static_cast<Eigen::Index>(model.mass_count());
   ws.f = Eigen::Matrix3Xd::Zero(3, n);
   ws.adjacency = std::make_shared<const SpringAdjacency>(SpringAdjacency::build(model));
-  ws.spring_c.assign(model.spring_count(), 0.0);
+  ws.spring_f.assign(4 * model.spring_count() + 4, 0.0);
   for (std::size_t i = 0; i < model.pinned.size(); ++i)
     if (model.pinned[i]) ws.pinned_index.push_back(static_cast<std::uint32_t>(i));
   ws.pinned_x = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(ws.pinned_index.size()));
@@ -114,70 +117,180 @@ namespace {
 
 bool has_adjacency(const Model& model, const Workspace& ws) {
   return ws.adjacency && ws.adjacency->start.size() == model.mass_count() + 1 &&
-         ws.spring_c.size() == model.spring_count();
+         ws.spring_f.size() == 4 * model.spring_count() + 4;
 }
 
-// Pass 1 of the gather: c_s = k (l - |dx|) / |dx| per spring, the scatter's arithmetic.
-// |dx| = 0 gives c = 0 (the scatter skips such a spring; adding 0 * 0 changes nothing but the
-// sign of an exactly -0.0 partial force, which m g - gamma v never produces).
-void spring_coefficients(const Model& model, const Eigen::Matrix3Xd& x, std::vector<double>& cs) {
-  const auto s_count = static_cast<std::int64_t>(model.spring_count());
+double* aligned32(std::vector<double>& v) {
+  auto p = reinterpret_cast<std::uintptr_t>(v.data());
+  return v.data() + ((32 - p % 32) % 32) / sizeof(double);
+}
+
+// Both passes exist twice: plain C++ and AVX2 (chosen at run time). They do the same IEEE
+// operations in the same order (sqrt and / are correctly rounded in both; no FMA), so the
+// results are bit-identical to each other and to the scatter loop.
+
+// Pass 1, springs [s0, s1): fs[4s..4s+2] = c dx, c = k (l - |dx|) / |dx|, the scatter's
+// arithmetic. |dx| = 0 gives 0 (the scatter skips such a spring; adding +-0 changes nothing
+// but an exactly -0.0 partial force, which m g - gamma v does not produce).
+void spring_pass_scalar(const Model& model, const double* px, double* fs, std::size_t s0, std::size_t s1) {
   const std::uint32_t* sa = model.spring_a.data();
   const std::uint32_t* sb = model.spring_b.data();
   const double* rest = model.rest_length0.data();
   const double* k = model.stiffness.data();
-  const double* px = x.data();
-  double* c = cs.data();
-  [[maybe_unused]] const int nt = team(cs.size());
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-  for (std::int64_t s = 0; s < s_count; ++s) {
+  for (std::size_t s = s0; s < s1; ++s) {
     const std::size_t a = 3 * std::size_t{sa[s]}, b = 3 * std::size_t{sb[s]};
     const double dx = px[a] - px[b], dy = px[a + 1] - px[b + 1], dz = px[a + 2] - px[b + 2];
     const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-    c[s] = len == 0.0 ? 0.0 : k[s] * (rest[s] - len) / len;
+    const double c = len == 0.0 ? 0.0 : k[s] * (rest[s] - len) / len;
+    fs[4 * s] = c * dx;
+    fs[4 * s + 1] = c * dy;
+    fs[4 * s + 2] = c * dz;
   }
 }
 
-// Pass 2: f_i (+)= sum over i's springs, in increasing spring index, of c_s (x_i - x_j).
-// For i = b this is c (x_b - x_a) = -(c dx) exactly, so f_b + that == the scatter's f_b - c dx.
-// With `base`, f_i starts from m_i g - gamma v_i (the same two roundings as the Eigen form).
-template <bool base>
-void gather_springs(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd* v,
-                    Eigen::Matrix3Xd& f, const Workspace& ws) {
-  const SpringAdjacency& adj = *ws.adjacency;
-  const auto n = static_cast<std::int64_t>(model.mass_count());
-  const std::uint32_t* start = adj.start.data();
-  const std::uint32_t* other = adj.other.data();
-  const std::uint32_t* spring = adj.spring.data();
-  const double* c = ws.spring_c.data();
-  const double* px = x.data();
-  const double* pv = base ? v->data() : nullptr;
+// Pass 2, masses [i0, i1): f_i = base_i + sum over i's springs, in increasing index, of +-fs.
+// f_b + (-(c dx)) == the scatter's f_b - c dx exactly. With v, base_i = g m_i - gamma v_i (the
+// Eigen form's two roundings), else the f_i already there.
+void mass_pass_scalar(const Model& model, const SpringAdjacency& adj, const double* fs, const double* pv,
+                      double* pf, std::size_t i0, std::size_t i1) {
   const double* m = model.mass.data();
-  const double g0 = model.options.gravity[0], g1 = model.options.gravity[1], g2 = model.options.gravity[2];
+  const Eigen::Vector3d& g = model.options.gravity;
   const double gamma = model.options.damping;
-  double* pf = f.data();
-  [[maybe_unused]] const int nt = team(static_cast<std::size_t>(n));
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-  for (std::int64_t i = 0; i < n; ++i) {
-    const double xi = px[3 * i], yi = px[3 * i + 1], zi = px[3 * i + 2];
-    double fx, fy, fz;
-    if constexpr (base) {
-      fx = g0 * m[i] - gamma * pv[3 * i];
-      fy = g1 * m[i] - gamma * pv[3 * i + 1];
-      fz = g2 * m[i] - gamma * pv[3 * i + 2];
+  for (std::size_t i = i0; i < i1; ++i) {
+    double f[3];
+    for (int r = 0; r < 3; ++r) f[r] = pv ? g[r] * m[i] - gamma * pv[3 * i + r] : pf[3 * i + r];
+    for (std::uint32_t e = adj.start[i], end = adj.start[i + 1]; e < end; ++e) {
+      const std::uint32_t en = adj.entry[e];
+      const double* q = fs + 4 * std::size_t{en & ~SpringAdjacency::kB};
+      if (en & SpringAdjacency::kB) {
+        for (int r = 0; r < 3; ++r) f[r] -= q[r];
+      } else {
+        for (int r = 0; r < 3; ++r) f[r] += q[r];
+      }
+    }
+    for (int r = 0; r < 3; ++r) pf[3 * i + r] = f[r];
+  }
+}
+
+#ifdef CLOTHSIM_AVX2
+__attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const double* px, double* fs,
+                                                      std::size_t s0, std::size_t s1) {
+  const std::uint32_t* sa = model.spring_a.data();
+  const std::uint32_t* sb = model.spring_b.data();
+  const double* rest = model.rest_length0.data();
+  const double* k = model.stiffness.data();
+  const __m256d zero = _mm256_setzero_pd();
+  const __m256i xyz = _mm256_setr_epi64x(-1, -1, -1, 0);  // lanes x, y, z of a mass (never past x's end)
+  std::size_t s = s0;
+  for (; s + 4 <= s1; s += 4) {
+    // per spring a lane vector xa - xb = (dx, dy, dz, 0), then transposed to dx, dy, dz of 4 springs
+    __m256d d[4];
+    for (int l = 0; l < 4; ++l)
+      d[l] = _mm256_sub_pd(_mm256_maskload_pd(px + 3 * std::size_t{sa[s + l]}, xyz),
+                           _mm256_maskload_pd(px + 3 * std::size_t{sb[s + l]}, xyz));
+    const __m256d u0 = _mm256_unpacklo_pd(d[0], d[1]);  // x0 x1 z0 z1
+    const __m256d u1 = _mm256_unpackhi_pd(d[0], d[1]);  // y0 y1 0 0
+    const __m256d u2 = _mm256_unpacklo_pd(d[2], d[3]);  // x2 x3 z2 z3
+    const __m256d u3 = _mm256_unpackhi_pd(d[2], d[3]);  // y2 y3 0 0
+    const __m256d dx = _mm256_permute2f128_pd(u0, u2, 0x20);
+    const __m256d dy = _mm256_permute2f128_pd(u1, u3, 0x20);
+    const __m256d dz = _mm256_permute2f128_pd(u0, u2, 0x31);
+    const __m256d len2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                       _mm256_mul_pd(dz, dz));
+    const __m256d len = _mm256_sqrt_pd(len2);
+    __m256d c = _mm256_div_pd(_mm256_mul_pd(_mm256_loadu_pd(k + s), _mm256_sub_pd(_mm256_loadu_pd(rest + s), len)), len);
+    c = _mm256_blendv_pd(c, zero, _mm256_cmp_pd(len, zero, _CMP_EQ_OQ));
+    const __m256d fx = _mm256_mul_pd(c, dx), fy = _mm256_mul_pd(c, dy), fz = _mm256_mul_pd(c, dz);
+    // transpose (fx, fy, fz, 0) of 4 springs into 4 blocks x, y, z, 0
+    const __m256d t0 = _mm256_unpacklo_pd(fx, fy);    // x0 y0 x2 y2
+    const __m256d t1 = _mm256_unpackhi_pd(fx, fy);    // x1 y1 x3 y3
+    const __m256d t2 = _mm256_unpacklo_pd(fz, zero);  // z0 0 z2 0
+    const __m256d t3 = _mm256_unpackhi_pd(fz, zero);  // z1 0 z3 0
+    double* o = fs + 4 * s;
+    _mm256_store_pd(o, _mm256_permute2f128_pd(t0, t2, 0x20));
+    _mm256_store_pd(o + 4, _mm256_permute2f128_pd(t1, t3, 0x20));
+    _mm256_store_pd(o + 8, _mm256_permute2f128_pd(t0, t2, 0x31));
+    _mm256_store_pd(o + 12, _mm256_permute2f128_pd(t1, t3, 0x31));
+  }
+  spring_pass_scalar(model, px, fs, s, s1);
+}
+
+__attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const SpringAdjacency& adj,
+                                                    const double* fs, const double* pv, double* pf,
+                                                    std::size_t i0, std::size_t i1) {
+  const double* m = model.mass.data();
+  const Eigen::Vector3d& gv = model.options.gravity;
+  const __m256d g = _mm256_setr_pd(gv[0], gv[1], gv[2], 0.0);
+  const __m256d gamma = _mm256_set1_pd(model.options.damping);
+  const std::uint32_t* start = adj.start.data();
+  const std::uint32_t* entry = adj.entry.data();
+  for (std::size_t i = i0; i < i1; ++i) {
+    __m256d f;
+    if (pv) {
+      const __m256d v = _mm256_setr_pd(pv[3 * i], pv[3 * i + 1], pv[3 * i + 2], 0.0);
+      f = _mm256_sub_pd(_mm256_mul_pd(g, _mm256_set1_pd(m[i])), _mm256_mul_pd(gamma, v));
     } else {
-      fx = pf[3 * i], fy = pf[3 * i + 1], fz = pf[3 * i + 2];
+      f = _mm256_setr_pd(pf[3 * i], pf[3 * i + 1], pf[3 * i + 2], 0.0);
     }
     for (std::uint32_t e = start[i], end = start[i + 1]; e < end; ++e) {
-      const std::size_t j = 3 * std::size_t{other[e]};
-      const double cs = c[spring[e]];
-      fx += cs * (xi - px[j]);
-      fy += cs * (yi - px[j + 1]);
-      fz += cs * (zi - px[j + 2]);
+      // +-fs: flip the sign bits for the b end (x + (-y) == x - y exactly)
+      const std::uint32_t en = entry[e];
+      const __m256d sign =
+          _mm256_castsi256_pd(_mm256_set1_epi64x(static_cast<long long>(std::uint64_t{en >> 31} << 63)));
+      f = _mm256_add_pd(f, _mm256_xor_pd(_mm256_load_pd(fs + 4 * std::size_t{en & ~SpringAdjacency::kB}), sign));
     }
-    pf[3 * i] = fx;
-    pf[3 * i + 1] = fy;
-    pf[3 * i + 2] = fz;
+    _mm_storeu_pd(pf + 3 * i, _mm256_castpd256_pd128(f));
+    _mm_store_sd(pf + 3 * i + 2, _mm256_extractf128_pd(f, 1));
+  }
+}
+
+bool use_avx2() {
+  static const bool yes = __builtin_cpu_supports("avx2") && std::getenv("CLOTHSIM_NO_AVX2") == nullptr;
+  return yes;
+}
+#endif
+
+// Both passes over the whole model, split into static per-thread ranges (no reduction
+// between threads: each mass and spring is written by one thread only).
+void gathered_springs(const Model& model, const Eigen::Matrix3Xd& x, const double* pv, Eigen::Matrix3Xd& f,
+                      Workspace& ws) {
+  const SpringAdjacency& adj = *ws.adjacency;
+  const double* px = x.data();
+  double* fs = aligned32(ws.spring_f);
+  double* pf = f.data();
+  const auto n = static_cast<std::int64_t>(model.mass_count());
+  const auto sc = static_cast<std::int64_t>(model.spring_count());
+  [[maybe_unused]] const int nt = team(model.mass_count());
+#ifdef CLOTHSIM_AVX2
+  const bool avx2 = use_avx2() && 3 * model.mass_count() < 0x80000000u;
+#endif
+  auto chunk = [](std::int64_t count, int t, int parts) {  // [lo, hi) of part t, lo a multiple of 4
+    const std::int64_t per = (count / parts + 3) / 4 * 4;
+    return std::pair<std::size_t, std::size_t>(static_cast<std::size_t>(std::min(count, t * per)),
+                                               static_cast<std::size_t>(t + 1 == parts ? count : std::min(count, (t + 1) * per)));
+  };
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    int t = 0, parts = 1;
+#ifdef _OPENMP
+    t = omp_get_thread_num();
+    parts = omp_get_num_threads();
+#endif
+    const auto [s0, s1] = chunk(sc, t, parts);
+#ifdef CLOTHSIM_AVX2
+    if (avx2)
+      spring_pass_avx2(model, px, fs, s0, s1);
+    else
+#endif
+      spring_pass_scalar(model, px, fs, s0, s1);
+#pragma omp barrier
+    const auto [i0, i1] = chunk(n, t, parts);
+#ifdef CLOTHSIM_AVX2
+    if (avx2)
+      mass_pass_avx2(model, adj, fs, pv, pf, i0, i1);
+    else
+#endif
+      mass_pass_scalar(model, adj, fs, pv, pf, i0, i1);
   }
 }
 
@@ -186,8 +299,7 @@ void gather_springs(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::
 void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
                        Workspace& ws) {
   if (!has_adjacency(model, ws)) return add_spring_forces(model, x, f);
-  spring_coefficients(model, x, ws.spring_c);
-  gather_springs<false>(model, x, nullptr, f, ws);
+  gathered_springs(model, x, nullptr, f, ws);
 }
 
 void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
@@ -195,8 +307,7 @@ void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::
   const Options& o = model.options;
   if (has_adjacency(model, ws)) {
     // gravity, the damping of eq. 6 (a = (f - gamma v)/m) and the springs in one pass per mass
-    spring_coefficients(model, x, ws.spring_c);
-    gather_springs<true>(model, x, &v, f, ws);
+    gathered_springs(model, x, v.data(), f, ws);
   } else {
     f.noalias() = o.gravity * model.mass.transpose() - o.damping * v;
     add_spring_forces(model, x, f);

@@ -10,14 +10,16 @@
 namespace clothsim {
 
 /// Per-mass spring lists (CSR) for the gathered spring forces: the springs of mass i are
-/// other[start[i] .. start[i+1]) / spring[...], in increasing spring index, so every mass sums
-/// its springs in the seed's scatter order whatever the thread count. Built from the Model once.
+/// entry[start[i] .. start[i+1]), in increasing spring index, so every mass sums its springs
+/// in the seed's scatter order whatever the thread count. An entry is the spring index, with
+/// the top bit set when i is the spring's b end (the force is subtracted). Built once.
 struct SpringAdjacency {
+  static constexpr std::uint32_t kB = 0x80000000u;  ///< entry flag: i is the b end
   std::vector<std::uint32_t> start;   ///< (n + 1)
-  std::vector<std::uint32_t> other;   ///< (2 s) the mass at the spring's other end
-  std::vector<std::uint32_t> spring;  ///< (2 s) the spring index
+  std::vector<std::uint32_t> entry;   ///< (2 s)
+  /// Throws std::length_error for more than 2^31 - 1 springs.
   static SpringAdjacency build(const Model& model);
-  std::size_t bytes() const { return (start.size() + other.size() + spring.size()) * sizeof(std::uint32_t); }
+  std::size_t bytes() const { return (start.size() + entry.size()) * sizeof(std::uint32_t); }
 };
 
 /// Scratch memory for step(), sized once from a Model so that step() never allocates.
@@ -32,7 +34,9 @@ struct Workspace {
   /// The gathered spring forces (performance, issue 6); shared by copies of the Workspace.
   /// Without it (a Workspace not made by make_workspace) the forces use the scatter loop.
   std::shared_ptr<const SpringAdjacency> adjacency;
-  std::vector<double> spring_c;              ///< (s) k (l - |dx|) / |dx| of each spring, 0 if |dx| = 0
+  /// (4 s + 4) each spring's force on its a end, c dx with c = k (l - |dx|) / |dx| (0 if |dx| = 0),
+  /// as x, y, z, 0 in 32-byte blocks from the first 32-byte aligned element.
+  std::vector<double> spring_f;
   /// Scratch of the other integrators (integrators.hpp); shared by copies of the Workspace.
   std::shared_ptr<struct IntegratorScratch> integrator_scratch;
 };
