@@ -10,12 +10,14 @@
 
 #include <cstdio>
 #include <exception>
+#include <string>
 
 int main(int argc, char** argv) {
   CLI::App app{"viewer_probe: the viewer on a hand-made scene (tests only)"};
   clothsim::ViewerOptions vo;
   bool no_vsync = false, pin = false;
   double dt = 0.0, k_struct = 0.0;
+  std::string name = "hand";
   app.add_option("--screenshot", vo.screenshot);
   app.add_option("--frames", vo.frames_dir);
   app.add_option("--fps", vo.fps);
@@ -29,11 +31,13 @@ int main(int argc, char** argv) {
   app.add_flag("--pin", pin, "pin one corner");
   app.add_option("--dt", dt, "step size (default: the scene's)");
   app.add_option("--k-struct", k_struct, "structural stiffness (default: the scene's)");
+  app.add_option("--name", name, "scene name (the window title starts with 'clothsim NAME')");
   app.footer(clothsim::viewer_help_text());
   CLI11_PARSE(app, argc, argv);
   vo.vsync = !no_vsync;
   try {
     clothsim::testing::HandScene hand(12, 1.6f, 1.2f, pin);
+    hand.scene.name = name.c_str();
     clothsim::Options options = clothsim::scene_options(hand.scene);
     if (dt > 0.0) options.dt = dt;
     if (k_struct > 0.0) options.k_struct = k_struct;

@@ -154,7 +154,9 @@ class Viewer {
     interactive_ = true;
     glfwSetWindowUserPointer(window_, this);
     glfwSetFramebufferSizeCallback(window_, [](GLFWwindow* w, int width, int height) {
-      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->gpu_.target.resize(width, height);
+      auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+      self->gpu_.target.resize(width, height);
+      self->update_title();  // the title shows the size: tests wait for it
     });
     glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int) {
       if (action == GLFW_PRESS || action == GLFW_REPEAT)
@@ -269,8 +271,9 @@ class Viewer {
                          : clock_.behind() ? " | slower than real time"
                                            : "";
     std::snprintf(stats, sizeof stats,
-                  "clothsim %s | t %.2f s | %.0f steps/s | %.2f ms/step | %.2fx real time%s",
-                  model_.scene_name.c_str(), state_.t, steps_per_s, ms_per_step, realtime, status);
+                  "clothsim %s | %dx%d | t %.2f s | %.0f steps/s | %.2f ms/step | %.2fx real time%s",
+                  model_.scene_name.c_str(), gpu_.target.width, gpu_.target.height, state_.t,
+                  steps_per_s, ms_per_step, realtime, status);
     const std::string keys = "Space pause  N step  R reset  W wire  S springs  P shot  H text  Esc quit";
     glfwSetWindowTitle(window_, (std::string(stats) + " | " + keys).c_str());
     overlay_ = std::string(stats) + "\n" + keys +
