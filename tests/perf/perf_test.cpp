@@ -1,0 +1,95 @@
+// Issue 6: the gathered, threaded force loops give exactly the seed's scatter results.
+#include "perf_scenes.hpp"
+
+#include <clothsim/integrators.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+namespace clothsim {
+namespace {
+
+// A triangulated n x n cloth with its positions jittered (so no spring is at rest).
+Model jittered_grid(int n, std::shared_ptr<const ColliderSet> colliders = nullptr) {
+  Model m = perf::grid_model(n, std::move(colliders));
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-0.01, 0.01);
+  for (Eigen::Index i = 0; i < m.x0.size(); ++i) m.x0.data()[i] += u(rng);
+  return m;
+}
+
+std::uint64_t run(const Model& m, int steps, int threads, bool gathered = true) {
+  set_threads(threads);
+  State s = make_state(m);
+  Workspace ws = make_workspace(m);
+  if (!gathered) ws.adjacency.reset();  // the scatter loop, as before issue 6
+  for (int i = 0; i < steps; ++i) EXPECT_TRUE(step(m, s, ws).finite);
+  set_threads(1);
+  return state_hash(s);
+}
+
+TEST(Gather, EqualsTheScatterLoopBitForBit) {
+  const Model m = jittered_grid(40);
+  const State s = make_state(m);
+  Workspace ws = make_workspace(m);
+  Eigen::Matrix3Xd ref = Eigen::Matrix3Xd::Random(3, s.x.cols()), got = ref;
+  add_spring_forces(m, s.x, ref);
+  add_spring_forces(m, s.x, got, ws);
+  const double rel = (got - ref).norm() / ref.norm();
+  EXPECT_LE(rel, 1e-12);
+  EXPECT_EQ(0, std::memcmp(got.data(), ref.data(), sizeof(double) * static_cast<std::size_t>(ref.size())))
+      << "relative difference " << rel;
+}
+
+TEST(Gather, CoincidentEndsGiveNoForceAsInTheScatter) {
+  Model m = jittered_grid(16);
+  m.x0.col(5) = m.x0.col(6);  // spring 5-6 has length 0
+  const State s = make_state(m);
+  Workspace ws = make_workspace(m);
+  Eigen::Matrix3Xd ref = Eigen::Matrix3Xd::Constant(3, s.x.cols(), 1.0), got = ref;
+  add_spring_forces(m, s.x, ref);
+  add_spring_forces(m, s.x, got, ws);
+  ASSERT_TRUE(got.allFinite());
+  EXPECT_EQ(got, ref);
+}
+
+TEST(Gather, WorkspaceWithoutAdjacencyFallsBackToTheScatter) {
+  const Model m = jittered_grid(24);
+  EXPECT_EQ(run(m, 30, 1, true), run(m, 30, 1, false));
+}
+
+TEST(Threads, SetAndRead) {
+  set_threads(2);
+#ifdef _OPENMP
+  EXPECT_EQ(threads(), 2);
+#endif
+  set_threads(1);
+  EXPECT_EQ(threads(), 1);
+}
+
+// Large enough (> 4096 masses) that the loops really split between threads.
+TEST(Threads, TwoAndThreeThreadsAreBitIdenticalToOne) {
+  const Model m = jittered_grid(72);
+  const std::uint64_t one = run(m, 40, 1);
+  EXPECT_EQ(run(m, 40, 2), one);
+  EXPECT_EQ(run(m, 40, 3), one);
+  EXPECT_EQ(run(m, 40, 1, false), one);  // and to the scatter loop
+}
+
+TEST(Threads, BitIdenticalOverACollider) {
+  const Model m = jittered_grid(72, perf::sphere_collider(3));
+  const std::uint64_t one = run(m, 30, 1);
+  EXPECT_EQ(run(m, 30, 2), one);
+  EXPECT_EQ(run(m, 30, 1, false), one);
+}
+
+TEST(Threads, BitIdenticalWithAnotherIntegrator) {
+  Model m = jittered_grid(72);
+  m.options.integrator = Integrator::RK4;
+  EXPECT_EQ(run(m, 10, 2), run(m, 10, 1));
+}
+
+}  // namespace
+}  // namespace clothsim
