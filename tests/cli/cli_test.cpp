@@ -146,7 +146,8 @@ TEST(Cli, ExportObjWritesEveryKSteps) {
 
 TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {
   const fs::path d = fresh_dir("blowup");
-  const Result r = run("--headless --quiet --dt 0.5 --seconds 1000 --report '" + (d / "r.json").string() + "'");
+  // --substeps 1: take the step as asked (the default, auto, would substep under the limit)
+  const Result r = run("--headless --quiet --dt 0.5 --substeps 1 --seconds 1000 --report '" + (d / "r.json").string() + "'");
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_NE(r.output.find("non-finite at step"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("stability"), std::string::npos) << r.output;

@@ -67,8 +67,9 @@ TEST(SimBadOptions, ReportIntoAMissingFolderIsRefused) {
 TEST(SimExplosion, StopsWithAReportNotACrash) {
   TempDir work("boom");
   const fs::path report = work.path / "report.json";
+  // --substeps 1: take the step as asked (the default, auto, would substep under the limit)
   const Result r = reliability::run({kExe, "--headless", "--quiet", "--dt", "0.5", "--k-struct", "1e6",
-                                     "--steps", "2000", "--report", report.string()});
+                                     "--substeps", "1", "--steps", "2000", "--report", report.string()});
   EXPECT_EQ(r.signal, 0) << r.err;
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("non-finite"), std::string::npos) << r.err;

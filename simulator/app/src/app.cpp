@@ -1,6 +1,8 @@
 #include "app.hpp"
 
+#include <clothsim/integrators.hpp>
 #include <clothsim/scene.hpp>
+#include <clothsim/stability.hpp>
 #include <clothsim/step.hpp>
 
 #include <blender2ogl/scene_types.h>
@@ -73,7 +75,7 @@ json options_json(const Options& o) {
               {"k_struct", o.k_struct}, {"k_bend", o.k_bend},
               {"damping", o.damping},   {"gravity", {o.gravity.x(), o.gravity.y(), o.gravity.z()}},
               {"epsilon", o.epsilon},   {"k_rep", o.k_rep},
-              {"integrator", "symplectic_euler"}};
+              {"integrator", to_string(o.integrator)}};
 }
 
 // temp file + rename: a reader never sees half a report.
@@ -176,6 +178,13 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   auto* o_export = app.add_option("--export-obj", export_dir, "Write the cloth meshes as OBJ files into this directory");
   app.add_option("--export-every", export_every, "With --export-obj: every K steps (default 10)")->check(CLI::PositiveNumber);
   app.add_flag("--quiet", quiet, "No progress bar and no summary");
+  // issue 5: integrator and stability guard (integrators.hpp, stability.hpp, docs/stability.md)
+  std::string integrator_name = to_string(Integrator::SymplecticEuler), substeps_text = "auto";
+  app.add_option("--integrator", integrator_name,
+                 "Time integrator: " + integrator_names() + " (default: the seed's symplectic-euler)");
+  app.add_option("--substeps", substeps_text,
+                 "auto: substep to stay under the stability limit (default); off: refuse a dt above it; "
+                 "N: N substeps per step, as asked");
   app.add_option("--screenshot", screenshot, "Viewer: render at --seconds, write this PNG and exit");
   app.add_option("--frames", frames, "Viewer: write a PNG sequence into this directory up to --seconds");
   app.add_option("--fps", fps, "Viewer: frames per simulated second for --frames (default 30)")->check(CLI::PositiveNumber);
@@ -227,6 +236,14 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   if (o_g->count()) opts.gravity = Eigen::Vector3d(0.0, -gravity, 0.0);
   if (o_eps->count()) opts.epsilon = epsilon;
   if (o_krep->count()) opts.k_rep = k_rep;
+  if (const auto method = parse_integrator(integrator_name)) opts.integrator = *method;
+  else return bad_input("--integrator: unknown '" + integrator_name + "' (known: " + integrator_names() + ")");
+  SubstepPolicy substep_policy;
+  try {
+    substep_policy = parse_substeps(substeps_text);
+  } catch (const std::invalid_argument& e) {
+    return bad_input(e.what());
+  }
   if (const std::string why = validate_options(opts); !why.empty()) return bad_input(why);
   if (o_seconds->count() && !(std::isfinite(seconds) && seconds >= 0.0))
     return bad_input("--seconds must be a finite number >= 0 (got " + fmt(seconds) + ")");
@@ -252,6 +269,19 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     std::cerr << "clothsim: error: " << e.what() << "\n";
     return kExitFailed;
   }
+
+  // The stability guard: omega_max (springs by power iteration + contact), the limit of this
+  // integrator, substeps or refusal, and the tunnelling check (docs/stability.md).
+  const StabilityReport stab = analyse_stability(model);
+  const SubstepPlan plan = plan_substeps(opts.dt, stab.dt_stable, substep_policy);
+  if (!plan.ok) return bad_input("--dt " + fmt(opts.dt) + ": " + plan.message);
+  model.options.dt = plan.h;
+  const TunnellingReport tunnel = check_tunnelling(model, plan.h);
+  if (!quiet) {
+    std::cerr << "clothsim: " << describe(stab, opts.integrator) << "\n";
+    if (!plan.message.empty()) std::cerr << "clothsim: note: " << plan.message << "\n";
+  }
+  if (tunnel.warn) std::cerr << "clothsim: " << tunnel.message << "\n";
 
 #ifdef CLOTHSIM_HAVE_VIEWER
   if (!headless) {
@@ -302,14 +332,15 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   const std::clock_t cpu0 = std::clock();  // CPU time: robust to other processes on the machine
   for (std::uint64_t i = 0; i < total; ++i) {
     const auto t0 = std::chrono::steady_clock::now();
-    const StepStatus st = step(model, state, ws);
+    StepStatus st;
+    for (int k = 0; k < plan.substeps && st.finite; ++k) st = step(model, state, ws);
     step_time += std::chrono::steady_clock::now() - t0;
     if (!st.finite) {
       finite = false;
       failed_step = state.steps;
       break;
     }
-    if (o_export->count() && state.steps % export_every == 0 && !export_obj(export_path, scene, model, state)) {
+    if (o_export->count() && (i + 1) % export_every == 0 && !export_obj(export_path, scene, model, state)) {
       std::cerr << "\nclothsim: error: --export-obj: cannot write into '" << export_dir << "'\n";
       return kExitFailed;
     }
@@ -342,7 +373,12 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     r["bend_springs"] = std::count(model.spring_kind.begin(), model.spring_kind.end(), std::uint8_t{1});
     r["collider_triangles"] = collider_triangle_count(model);
     r["dt"] = opts.dt;
-    r["steps"] = state.steps;
+    r["steps"] = state.steps / static_cast<std::uint64_t>(plan.substeps);  // steps of dt
+    r["substeps"] = plan.substeps;
+    r["dt_stable"] = num(stab.dt_stable);  // the guard's limit for this integrator
+    r["omega_max"] = num(stab.omega_max);
+    r["integrator"] = to_string(opts.integrator);
+    r["tunnelling_warning"] = tunnel.warn;
     r["seconds_simulated"] = state.t;
     r["ms_per_step"] = ms_per_step;
     r["cpu_ms_per_step"] = state.steps ? cpu_ms / static_cast<double>(state.steps) : 0.0;  // includes --export-obj
