@@ -35,7 +35,8 @@ struct Result {
   std::string out, err;
 };
 
-/// Runs argv[0] (a path) with argv; `env` entries ("K=V") are added to the environment.
+/// Runs argv[0] (a path) with argv; `env` entries ("K=V") are added to (or replace entries of)
+/// the environment.
 /// A watchdog kills the program after `limit_s` seconds so that a hang fails the test
 /// instead of blocking the suite (it is a bound, not a synchronisation).
 inline Result run(const std::vector<std::string>& argv, const std::vector<std::string>& env = {},
@@ -53,7 +54,13 @@ inline Result run(const std::vector<std::string>& argv, const std::vector<std::s
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   std::vector<std::string> env_strings;
-  for (char** e = environ; *e != nullptr; ++e) env_strings.emplace_back(*e);
+  auto key = [](const std::string& kv) { return kv.substr(0, kv.find('=') + 1); };
+  for (char** e = environ; *e != nullptr; ++e) {
+    const std::string kv(*e);
+    bool replaced = false;  // an entry of `env` overrides the inherited one
+    for (const auto& x : env) replaced = replaced || key(x) == key(kv);
+    if (!replaced) env_strings.push_back(kv);
+  }
   env_strings.insert(env_strings.end(), env.begin(), env.end());
   std::vector<char*> envp;
   for (auto& e : env_strings) envp.push_back(e.data());
