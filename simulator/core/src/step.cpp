@@ -67,6 +67,21 @@ SpringAdjacency SpringAdjacency::build(const Model& model) {
   return a;
 }
 
+#ifdef CLOTHSIM_HAVE_COLLISION
+struct CollisionScratch {
+  ContactCache whole;  ///< one thread: the whole cloth
+  struct Chunk {       ///< more threads: a contiguous run of masses each, copied in and out
+    Eigen::Index i0 = 0, count = 0;
+    ContactCache cache;
+    Eigen::Matrix3Xd x, f;
+    PenaltyStats stats;
+  };
+  std::vector<Chunk> chunks;
+};
+#else
+struct CollisionScratch {};
+#endif
+
 State make_state(const Model& model) {
   State s;
   s.x = model.x0;
@@ -84,7 +99,10 @@ Workspace make_workspace(const Model& model) {
     if (model.pinned[i]) ws.pinned_index.push_back(static_cast<std::uint32_t>(i));
   ws.pinned_x = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(ws.pinned_index.size()));
 #ifdef CLOTHSIM_HAVE_COLLISION
-  if (model.colliders) ws.contact_hint.assign(model.mass_count() * model.colliders->object_count(), -1);
+  if (model.colliders) {
+    ws.collision = std::make_shared<CollisionScratch>();
+    ws.collision->whole.resize(model.mass_count(), model.colliders->object_count());
+  }
 #endif
   return ws;
 }
@@ -316,9 +334,42 @@ void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::
   ws.last_contacts = 0;
 #ifdef CLOTHSIM_HAVE_COLLISION
   if (model.colliders) {
+    const ColliderSet& set = *model.colliders;
     PenaltyStats stats;
-    accumulate_penalty(*model.colliders, x, o.epsilon, o.k_rep, f, stats,
-                       std::span<std::int32_t>(ws.contact_hint));
+    const std::size_t n = model.mass_count();
+    const int nt = team(n * set.object_count() / 2);  // a query costs ~10 spring terms
+    if (!ws.collision) {  // a Workspace not made by make_workspace: the hints, if sized
+      accumulate_penalty(set, x, o.epsilon, o.k_rep, f, stats, std::span<std::int32_t>(ws.contact_hint));
+    } else if (nt <= 1) {
+      accumulate_penalty(set, x, o.epsilon, o.k_rep, f, stats, ws.collision->whole);
+    } else {
+      // Each thread queries its own run of masses (same results: a point's answer and force do
+      // not depend on the others); the statistics combine exactly (max, sums).
+      auto& chunks = ws.collision->chunks;
+      if (chunks.size() != static_cast<std::size_t>(nt)) {  // allocates once per thread count
+        chunks.assign(static_cast<std::size_t>(nt), {});
+        for (int c = 0; c < nt; ++c) {
+          auto& ch = chunks[static_cast<std::size_t>(c)];
+          ch.i0 = static_cast<Eigen::Index>(n * static_cast<std::size_t>(c) / static_cast<std::size_t>(nt));
+          ch.count = static_cast<Eigen::Index>(n * static_cast<std::size_t>(c + 1) / static_cast<std::size_t>(nt)) - ch.i0;
+          ch.cache.resize(static_cast<std::size_t>(ch.count), set.object_count());
+          ch.x.resize(3, ch.count);
+          ch.f.resize(3, ch.count);
+        }
+      }
+#pragma omp parallel for schedule(static, 1) num_threads(nt)
+      for (int c = 0; c < nt; ++c) {
+        auto& ch = chunks[static_cast<std::size_t>(c)];
+        ch.x = x.middleCols(ch.i0, ch.count);
+        ch.f = f.middleCols(ch.i0, ch.count);
+        accumulate_penalty(set, ch.x, o.epsilon, o.k_rep, ch.f, ch.stats, ch.cache);
+        f.middleCols(ch.i0, ch.count) = ch.f;
+      }
+      for (const auto& ch : chunks) {
+        stats.max_penetration = std::max(stats.max_penetration, ch.stats.max_penetration);
+        stats.contacts += ch.stats.contacts;
+      }
+    }
     ws.last_penetration = stats.max_penetration;
     ws.last_contacts = static_cast<std::uint32_t>(stats.contacts);
   }

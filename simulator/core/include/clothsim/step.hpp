@@ -27,7 +27,12 @@ struct Workspace {
   Eigen::Matrix3Xd f;                        ///< (3 x n) total force at the current stage, N
   Eigen::Matrix3Xd pinned_x;                 ///< (3 x p) positions of the pinned masses, saved per step
   std::vector<std::uint32_t> pinned_index;   ///< (p) the pinned masses
-  std::vector<std::int32_t> contact_hint;    ///< (n x colliders) closest-triangle hints, -1 = none
+  std::vector<std::int32_t> contact_hint;    ///< (n x colliders) closest-triangle hints, -1 = none (unused
+                                             ///< when `collision` is set)
+  /// The collision query's memory between steps (ContactCache certificates, per thread chunk),
+  /// made by make_workspace when the model has colliders. Copies of the Workspace share it
+  /// (results stay exact); do not step two copies at the same time.
+  std::shared_ptr<struct CollisionScratch> collision;
   Drag drag;                                 ///< the drag of the state being stepped
   double last_penetration = 0.0;             ///< m, deepest point behind a collider in the last force stage
   std::uint32_t last_contacts = 0;           ///< points inside a collider band in the last force stage
