@@ -178,6 +178,9 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   auto* o_export = app.add_option("--export-obj", export_dir, "Write the cloth meshes as OBJ files into this directory");
   app.add_option("--export-every", export_every, "With --export-obj: every K steps (default 10)")->check(CLI::PositiveNumber);
   app.add_flag("--quiet", quiet, "No progress bar and no summary");
+  int threads = 1;  // issue 6: results are bit-identical for every count
+  app.add_option("--threads", threads, "Threads for the force loops (default 1; 0: all cores); same results for any count")
+      ->check(CLI::Range(0, 1024));
   // issue 5: integrator and stability guard (integrators.hpp, stability.hpp, docs/stability.md)
   std::string integrator_name = to_string(Integrator::SymplecticEuler), substeps_text = "auto";
   app.add_option("--integrator", integrator_name,
@@ -245,6 +248,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     return bad_input(e.what());
   }
   if (const std::string why = validate_options(opts); !why.empty()) return bad_input(why);
+  set_threads(threads);
   if (o_seconds->count() && !(std::isfinite(seconds) && seconds >= 0.0))
     return bad_input("--seconds must be a finite number >= 0 (got " + fmt(seconds) + ")");
   if (o_steps->count() && steps == 0) return bad_input("--steps must be > 0");
