@@ -198,9 +198,11 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
 
   // --help lists the built-in defaults next to this scene's baked values.
   std::ostringstream foot;
-  auto row = [&foot](const char* name, double d, double s) {
-    foot << "  " << name << std::string(12 - std::string(name).size(), ' ') << fmt(d)
-         << std::string(d == s ? 0 : 1, ' ') << (d == s ? "" : "(scene '': " + fmt(s) + ")") << "\n";
+  const std::string scene_label = std::string("(scene '") + scene.name + "': ";
+  auto row = [&foot, &scene_label](const char* name, double d, double s) {
+    foot << "  " << name << std::string(12 - std::string(name).size(), ' ') << fmt(d);
+    if (d != s) foot << ' ' << scene_label << fmt(s) << ')';
+    foot << '\n';
   };
   foot << "Physical options: built-in default, and where this scene bakes another value, the scene's:\n";
   row("--dt", defaults.dt, scene_opts.dt);
@@ -213,10 +215,10 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   row("--k-rep", defaults.k_rep, scene_opts.k_rep);
   foot << "The command line overrides the scene. Exit codes: 0 ok, 1 the run failed "
           "(non-finite state, I/O), 2 bad input.\n";
-  std::string footer = foot.str();
-  for (std::size_t p; (p = footer.find("scene ''")) != std::string::npos;)
-    footer.replace(p, 8, std::string("scene '") + scene.name + "'");
-  app.footer(footer);
+#ifdef CLOTHSIM_HAVE_VIEWER
+  foot << '\n' << viewer_help_text();
+#endif
+  app.footer(foot.str());
 
   std::vector<std::string> args = rewrite_seed_aliases(argc, argv);
   std::reverse(args.begin(), args.end());  // CLI11 parses a reversed vector
