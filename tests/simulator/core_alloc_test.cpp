@@ -5,23 +5,7 @@
 #include <clothsim/step.hpp>
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
-namespace {
-std::atomic<long> g_allocations{0};
-// Called through a pointer so that GCC does not pair the inlined new/free (-Wmismatched-new-delete).
-void (*volatile g_free)(void*) = std::free;
-}  // namespace
-
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { g_free(p); }
-void operator delete(void* p, std::size_t) noexcept { g_free(p); }
+#include "alloc_counter.hpp"
 
 namespace clothsim {
 namespace {
@@ -39,14 +23,14 @@ TEST(Step, NeverAllocates) {
   mb.set_colliders(floor);
   const Model m = mb.build();
   State s = make_state(m);
-  const long at_start = g_allocations.load();
+  const long at_start = alloc_counter::count();
   Workspace ws = make_workspace(m);
-  ASSERT_GT(g_allocations.load() - at_start, 0) << "the counter works: make_workspace allocates";
+  ASSERT_GT(alloc_counter::count() - at_start, 0) << "the counter works: make_workspace allocates";
   s.drag = Drag{55, Eigen::Vector3d(0.5, 1.0, 0.5), 5.0};
   step(m, s, ws);  // warm-up
-  const long before = g_allocations.load();
+  const long before = alloc_counter::count();
   for (int i = 0; i < 200; ++i) ASSERT_TRUE(step(m, s, ws).finite);
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(alloc_counter::count() - before, 0);
   EXPECT_GT(ws.last_contacts, 0u);  // the floor was touched, so the penalty path ran
 }
 

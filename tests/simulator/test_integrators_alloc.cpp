@@ -7,22 +7,7 @@
 #include <clothsim/step.hpp>
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
-namespace {
-std::atomic<long> g_allocations{0};
-void (*volatile g_free)(void*) = std::free;  // through a pointer: no new/free pairing warning
-}  // namespace
-
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { g_free(p); }
-void operator delete(void* p, std::size_t) noexcept { g_free(p); }
+#include "alloc_counter.hpp"
 
 namespace clothsim {
 namespace {
@@ -44,10 +29,10 @@ long allocations_in_steps(Integrator method) {
   State s = make_state(m);
   Workspace ws = make_workspace(m);
   step(m, s, ws);  // warm-up: makes the scratch (and the fast mass-spring factorization)
-  const long before = g_allocations.load();
+  const long before = alloc_counter::count();
   for (int i = 0; i < 100; ++i)
     if (!step(m, s, ws).finite) return -1;
-  return g_allocations.load() - before;
+  return alloc_counter::count() - before;
 }
 
 TEST(Integrators, NeverAllocateAfterTheFirstStep) {
