@@ -1,6 +1,8 @@
 # blender2ogl_add_scene(<name> OBJ <file.obj>
 #                       [CLOTH <object>...] [PIN <object:x,y,z>...] [PARAMS <key=value>...]
-#                       [DEPENDS <extra files>...] [COMBINED] [NO_REVERSE_MAP])
+#                       [DEPENDS <extra files>...] [COMBINED] [NO_REVERSE_MAP] [ALLOW_MISSING])
+#
+# ALLOW_MISSING passes --allow-missing: a missing .mtl or texture is a warning, not an error.
 #
 # Bakes a model at build time into a static library target scene_<name> (ALIAS
 # blender2ogl::scene::<name>) whose header <name>.h declares b2o::gen::<name>::scene.
@@ -16,7 +18,7 @@ cmake_policy(PUSH)
 cmake_policy(VERSION 3.25)  # CMP0116: depfile paths made relative for Ninja
 
 function(blender2ogl_add_scene name)
-  cmake_parse_arguments(PARSE_ARGV 1 B2O "COMBINED;NO_REVERSE_MAP" "OBJ" "CLOTH;PIN;PARAMS;DEPENDS")
+  cmake_parse_arguments(PARSE_ARGV 1 B2O "COMBINED;NO_REVERSE_MAP;ALLOW_MISSING" "OBJ" "CLOTH;PIN;PARAMS;DEPENDS")
   if(B2O_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "blender2ogl_add_scene(${name}): unknown arguments: ${B2O_UNPARSED_ARGUMENTS}")
   endif()
@@ -69,6 +71,9 @@ function(blender2ogl_add_scene name)
   set(args -n ${name})
   if(NOT B2O_NO_REVERSE_MAP)
     list(APPEND args -r)
+  endif()
+  if(B2O_ALLOW_MISSING)
+    list(APPEND args --allow-missing)
   endif()
   foreach(c IN LISTS B2O_CLOTH)
     list(APPEND args -a ${c})

@@ -62,7 +62,11 @@ const Object* find_object(const Scene& s, const std::string& want, const std::st
 
 std::string object_list(const Scene& s) {
   std::string list;
-  for (const Object& o : s.objects) list += (list.empty() ? "" : ", ") + ("'" + o.name + "'");
+  std::size_t n = 0;
+  for (const Object& o : s.objects) {
+    if (++n > 20) return list + ", ... (" + std::to_string(s.objects.size()) + " in all)";  // one readable line
+    list += (list.empty() ? "" : ", ") + quote_input(o.name);
+  }
   return list;
 }
 
@@ -91,7 +95,7 @@ Cloth build_cloth(Scene& s, std::uint32_t object_index, bool reverse, Stats& sta
   }
   if (loose > 0) {
     stats.loose_vertices += loose;
-    s.warnings.push_back(file + ": cloth '" + o.name + "': " + std::to_string(loose) +
+    s.warnings.push_back(file + ": cloth " + quote_input(o.name) + ": " + std::to_string(loose) +
                          " vertices in no face get no mass (vertex_mass = 0xffffffff)");
   }
   // mass -> render vertices (CSR, vertices ascending within a mass)
@@ -142,7 +146,7 @@ Cloth build_cloth(Scene& s, std::uint32_t object_index, bool reverse, Stats& sta
   }
   if (degenerate > 0) {
     stats.degenerate_triangles += degenerate;
-    s.warnings.push_back(file + ": cloth '" + o.name + "': " + std::to_string(degenerate) +
+    s.warnings.push_back(file + ": cloth " + quote_input(o.name) + ": " + std::to_string(degenerate) +
                          " degenerate triangles left out of the cloth");
   }
   std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
@@ -175,10 +179,16 @@ Cloth build_cloth(Scene& s, std::uint32_t object_index, bool reverse, Stats& sta
   for (std::uint64_t k : bend)
     if (!std::binary_search(structural.begin(), structural.end(), k))
       c.springs.push_back({static_cast<std::uint32_t>(k >> 32), static_cast<std::uint32_t>(k), 0.0f, 1});
-  for (Spring& sp : c.springs) sp.rest_length = rest(sp.a, sp.b);
+  for (Spring& sp : c.springs) {
+    sp.rest_length = rest(sp.a, sp.b);
+    // finite floats up to 3.4e38 can be farther apart than the largest float
+    if (!std::isfinite(sp.rest_length))
+      throw InputError(file + ": cloth " + quote_input(o.name) +
+                       ": coordinates too large: spring rest length overflows");
+  }
   if (nonmanifold > 0) {
     stats.nonmanifold_edges += nonmanifold;
-    s.warnings.push_back(file + ": cloth '" + o.name + "': " + std::to_string(nonmanifold) +
+    s.warnings.push_back(file + ": cloth " + quote_input(o.name) + ": " + std::to_string(nonmanifold) +
                          " non-manifold edges (3+ triangles) get no bend springs");
   }
   return c;
@@ -195,7 +205,7 @@ void bake_scene(Scene& s, const Options& opt, Stats& stats) {
   for (const std::string& want : opt.cloth_objects) {
     const Object* o = find_object(s, want, stem);
     if (o == nullptr)
-      throw InputError(file + ": no object '" + want + "' to give masses (-a); objects: " + object_list(s));
+      throw InputError(file + ": no object " + quote_input(want) + " to give masses (-a); objects: " + object_list(s));
     const auto idx = static_cast<std::uint32_t>(o - s.objects.data());
     if (std::find(chosen.begin(), chosen.end(), idx) == chosen.end()) chosen.push_back(idx);
   }
@@ -214,10 +224,10 @@ void bake_scene(Scene& s, const Options& opt, Stats& stats) {
   for (const auto& [helper, pts] : s.pin_points) {
     const std::string target = pin_target_name(helper);
     if (find_object(s, target, stem) == nullptr)
-      throw InputError(file + ": pin object '" + helper + "' names no object '" + target + "'");
+      throw InputError(file + ": pin object " + quote_input(helper) + " names no object " + quote_input(target));
     Cloth* c = cloth_of(target);
     if (c == nullptr) {
-      s.warnings.push_back(file + ": pin object '" + helper + "' ignored: '" + target + "' has no masses (-a)");
+      s.warnings.push_back(file + ": pin object " + quote_input(helper) + " ignored: " + quote_input(target) + " has no masses (-a)");
       continue;
     }
     if (c->mass_count() == 0) continue;
@@ -232,15 +242,15 @@ void bake_scene(Scene& s, const Options& opt, Stats& stats) {
       double d2 = 0;
       const std::uint32_t m = nearest_mass(*c, &pts[p], d2);
       if (d2 > 1e-4 * diag2)
-        throw InputError(file + ": pin object '" + helper + "': vertex " + std::to_string(p / 3 + 1) +
-                         " is " + std::to_string(std::sqrt(d2)) + " from the nearest mass of '" + target +
-                         "' (more than 1 % of its size)");
+        throw InputError(file + ": pin object " + quote_input(helper) + ": vertex " + std::to_string(p / 3 + 1) +
+                         " is " + std::to_string(std::sqrt(d2)) + " from the nearest mass of " + quote_input(target) +
+                         " (more than 1 % of its size)");
       c->pins.push_back(m);
     }
   }
   for (const PinSpec& pin : opt.pins) {
     if (find_object(s, pin.object, stem) == nullptr)
-      throw InputError(file + ": no object '" + pin.object + "' to pin (-p); objects: " + object_list(s));
+      throw InputError(file + ": no object " + quote_input(pin.object) + " to pin (-p); objects: " + object_list(s));
     Cloth* c = cloth_of(pin.object);
     if (c == nullptr) throw UsageError("-p " + pin.object + ": the object has no masses; give it -a " + pin.object);
     double d2 = 0;

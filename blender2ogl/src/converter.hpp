@@ -11,6 +11,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace b2o::conv {
@@ -44,6 +45,7 @@ struct Options {
   std::vector<PinSpec> pins;               ///< -p
   std::vector<std::pair<std::string, double>> params;  ///< --param, in command-line order
   std::filesystem::path depfile;           ///< --depfile: Makefile-style list of inputs read
+  bool allow_missing = false;  ///< --allow-missing: a missing .mtl or texture is a warning, not an error
 };
 
 struct Material {
@@ -126,7 +128,19 @@ inline double lap_ms(std::chrono::steady_clock::time_point& t0) {
 unsigned import_flags();
 
 /// Reads the model with assimp into a Scene (geometry, objects, materials, textures).
-Scene import_scene(const std::filesystem::path& file, bool merge);
+/// A missing or unreadable .mtl or texture is an InputError unless `allow_missing`
+/// (then a warning: default material / no texture).
+Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_missing = false);
+
+/// Input text quoted in a message: 'text', clipped to 60 bytes with "..." (a megabyte token
+/// must not become a megabyte line).
+inline std::string quote_input(std::string_view text) {
+  constexpr std::size_t kMax = 60;
+  if (text.size() <= kMax) return "'" + std::string(text) + "'";
+  std::size_t cut = kMax;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // whole UTF-8 characters
+  return "'" + std::string(text.substr(0, cut)) + "...'";
+}
 
 /// Cleans `name` into a C++ identifier (not a keyword, no reserved spelling).
 std::string clean_identifier(const std::string& name);

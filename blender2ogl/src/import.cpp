@@ -44,7 +44,7 @@ Material read_material(const aiMaterial& m) {
       !std::all_of(out.diffuse.begin(), out.diffuse.end(), finite) ||
       !std::all_of(out.specular.begin(), out.specular.end(), finite) || !finite(out.shininess) ||
       !finite(out.opacity))
-    throw std::runtime_error("material '" + out.name + "' has a non-finite value");
+    throw std::runtime_error("material " + quote_input(out.name) + " has a non-finite value");
   return out;
 }
 
@@ -96,7 +96,7 @@ unsigned import_flags() {
          aiProcess_SortByPType | aiProcess_ValidateDataStructure;
 }
 
-Scene import_scene(const std::filesystem::path& file, bool merge) {
+Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_missing) {
   Scene out;
   out.source = file.filename().string();
   std::error_code ec;
@@ -112,40 +112,46 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
 
   auto t0 = std::chrono::steady_clock::now();
   ObjScan scan;
+  struct MapKdOf {
+    MapKd map;
+    std::filesystem::path mtl;
+  };
+  std::vector<MapKdOf> map_kd;  // to report a missing texture at its .mtl line
   if (is_obj) {
     scan = prescan_obj_file(file);
     out.timings_ms.emplace_back("pre-scan", lap_ms(t0));
     for (std::size_t i = 0; i < scan.mtllibs.size(); ++i) {
       const std::string& lib = scan.mtllibs[i];
       const auto p = folder / lib;
+      const std::string where = file.string() + ":" + std::to_string(scan.mtllib_lines[i]) + ": ";
+      auto check_mtl = [&](const std::filesystem::path& mtl) {
+        try {
+          for (MapKd& m : prescan_mtl_file(mtl)) map_kd.push_back({std::move(m), mtl});
+        } catch (const InputError& e) {
+          throw InputError(std::string(e.what()) + " (material library of " + file.filename().string() + ")");
+        }
+        out.inputs_read.push_back(std::filesystem::absolute(mtl));
+      };
       if (!std::filesystem::exists(p, ec)) {
+        if (!allow_missing)
+          throw InputError(where + "material library " + quote_input(lib) + " not found (" + p.string() +
+                           "); --allow-missing converts without it");
         // assimp then reads <model>.mtl instead, when there is one: check that one.
         const auto fallback = folder / (file.stem().string() + ".mtl");
         if (std::filesystem::is_regular_file(fallback, ec)) {
-          out.warnings.push_back(file.string() + ": material library '" + lib + "' not found; assimp reads '" +
+          out.warnings.push_back(where + "material library " + quote_input(lib) + " not found; assimp reads '" +
                                  fallback.filename().string() + "' instead");
-          try {
-            prescan_mtl_file(fallback);
-          } catch (const InputError& e) {
-            throw InputError(std::string(e.what()) + " (material library of " + file.filename().string() + ")");
-          }
-          out.inputs_read.push_back(std::filesystem::absolute(fallback));
+          check_mtl(fallback);
         } else {
-          out.warnings.push_back(file.string() + ": material library '" + lib +
-                                 "' not found; its objects get a default material");
+          out.warnings.push_back(where + "material library " + quote_input(lib) +
+                                 " not found; its objects get a default material");
         }
         continue;
       }
       // assimp would fail on it with a message that names no file
       if (!std::filesystem::is_regular_file(p, ec) || !std::ifstream(p, std::ios::binary))
-        throw InputError(file.string() + ":" + std::to_string(scan.mtllib_lines[i]) + ": material library '" + lib +
-                         "' is not a readable file");
-      try {
-        prescan_mtl_file(p);
-      } catch (const InputError& e) {
-        throw InputError(std::string(e.what()) + " (material library of " + file.filename().string() + ")");
-      }
-      out.inputs_read.push_back(std::filesystem::absolute(p));
+        throw InputError(where + "material library " + quote_input(lib) + " is not a readable file");
+      check_mtl(p);
     }
     if (scan.lines_points > 0)
       out.warnings.push_back(file.string() + ": " + std::to_string(scan.lines_points) +
@@ -197,8 +203,24 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
         if (!std::filesystem::is_regular_file(p, ec)) p = folder / rel;
         std::ifstream in(p, std::ios::binary);
         if (rel.empty() || rel[0] == '*' || !in || std::filesystem::is_directory(p, ec)) {
-          out.warnings.push_back(file.string() + ": texture '" + written + "' of material '" + m.name +
-                                 "' not found; the material gets no texture");
+          // named at its map_Kd line when the .mtl is known (the statement ends with the name)
+          std::string where = file.string() + ": ";
+          for (const MapKdOf& k : map_kd) {
+            const std::string& a = k.map.argument;
+            const std::size_t n = written.size();
+            if (a == written || (a.size() > n && a.compare(a.size() - n, n, written) == 0 &&
+                                 (a[a.size() - n - 1] == ' ' || a[a.size() - n - 1] == '\t'))) {
+              where = k.mtl.string() + ":" + std::to_string(k.map.line) + ": ";
+              break;
+            }
+          }
+          const std::string what = "texture " + quote_input(written) + " of material " + quote_input(m.name);
+          const bool exists = std::filesystem::exists(p, ec);
+          if (!allow_missing)
+            throw InputError(where + what + (exists ? " is not a readable file (" : " not found (") + p.string() +
+                             "; material of " + file.filename().string() + "); --allow-missing converts without it");
+          out.warnings.push_back(where + what + (exists ? " is not a readable file" : " not found") +
+                                 "; the material gets no texture (" + file.filename().string() + ")");
         } else {
           std::ostringstream ss;
           ss << in.rdbuf();
@@ -258,7 +280,7 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
       for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
         aiVector3D p = mesh->mVertices[v];
         if (!finite3(p))
-          throw InputError(file.string() + ": object '" + obj.name + "' has a non-finite vertex coordinate");
+          throw InputError(file.string() + ": object " + quote_input(obj.name) + " has a non-finite vertex coordinate");
         if (moved) p = transform * p;
         aiVector3D n = mesh->mNormals != nullptr ? mesh->mNormals[v] : aiVector3D(0, 0, 0);
         if (moved) n = (normal_matrix * n).NormalizeSafe();
@@ -271,13 +293,13 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
           u = mesh->mTextureCoords[0][v].x;
           w = mesh->mTextureCoords[0][v].y;
           if (!std::isfinite(u) || !std::isfinite(w))
-            throw InputError(file.string() + ": object '" + obj.name + "' has a non-finite texture coordinate");
+            throw InputError(file.string() + ": object " + quote_input(obj.name) + " has a non-finite texture coordinate");
         }
         const float attrs[8] = {p.x, p.y, p.z, n.x, n.y, n.z, u, w};
         std::memcpy(&corner[8 * static_cast<std::size_t>(v)], attrs, sizeof attrs);
       }
       if (bad_normal)
-        out.warnings.push_back(file.string() + ": object '" + obj.name + "': some normals could not be generated (degenerate faces); set to zero");
+        out.warnings.push_back(file.string() + ": object " + quote_input(obj.name) + ": some normals could not be generated (degenerate faces); set to zero");
       std::size_t table_size = 16;
       while (table_size < 2ull * mesh->mNumVertices) table_size *= 2;
       constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
@@ -312,11 +334,11 @@ Scene import_scene(const std::filesystem::path& file, bool merge) {
       for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
         const aiFace& face = mesh->mFaces[f];
         if (face.mNumIndices != 3)
-          throw InputError(file.string() + ": object '" + obj.name + "' has a face with " +
+          throw InputError(file.string() + ": object " + quote_input(obj.name) + " has a face with " +
                            std::to_string(face.mNumIndices) + " vertices");
         for (unsigned c = 0; c < 3; ++c) {
           if (face.mIndices[c] >= mesh->mNumVertices)
-            throw InputError(file.string() + ": object '" + obj.name + "' has a vertex index out of range");
+            throw InputError(file.string() + ": object " + quote_input(obj.name) + " has a vertex index out of range");
           out.indices.push_back(join(face.mIndices[c]));
         }
       }

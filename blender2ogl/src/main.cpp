@@ -35,6 +35,8 @@ Options:
                           needs -a)
       --param KEY=VALUE   bake a number into Scene::params (repeatable), e.g. dt=0.002
       --depfile FILE      write a Makefile-style list of the files read (for build tools)
+      --allow-missing     a missing or unreadable .mtl or texture image is a warning (default
+                          material / no texture) instead of an error
   -v, --verbose           print statistics (objects, vertices, triangles, masses, springs,
                           pins, warnings, time)
   -h, -?, --help          this help
@@ -140,6 +142,9 @@ b2o::conv::Options parse(int argc, char** argv, bool& done) {
         throw UsageError("--param " + kv + ": the value is not a finite number");
       if (!param_keys.insert(key).second) throw UsageError("--param " + key + " given twice");
       o.params.emplace_back(key, v);
+    } else if (arg == "--allow-missing") {
+      if (has_value) throw UsageError("--allow-missing takes no value");
+      o.allow_missing = true;
     } else if (arg == "--depfile") {
       o.depfile = need("--depfile");
     } else if (arg.size() > 1 && arg[0] == '-') {

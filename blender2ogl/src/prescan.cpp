@@ -153,15 +153,15 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     double values[4] = {0, 0, 0, 0};
     auto numbers = [&](std::size_t min_count, const char* what) -> const double* {
       if (tok.size() - 1 < min_count)
-        fail(file, start_line, std::string("'") + std::string(key) + "' needs " + std::to_string(min_count) + " " + what +
+        fail(file, start_line, quote_input(key) + " needs " + std::to_string(min_count) + " " + what +
                                    ", found " + std::to_string(tok.size() - 1) + " (truncated file?)");
       for (std::size_t k = 1; k < tok.size(); ++k) {
         double v = 0;
         if (!parse_number(tok[k], v)) {
-          if (is_number_like(tok[k])) fail(file, start_line, "non-finite number '" + std::string(tok[k]) + "'");
-          fail(file, start_line, "malformed number '" + std::string(tok[k]) + "'");
+          if (is_number_like(tok[k])) fail(file, start_line, "non-finite number " + quote_input(tok[k]));
+          fail(file, start_line, "malformed number " + quote_input(tok[k]));
         }
-        if (!std::isfinite(v)) fail(file, start_line, "number out of range '" + std::string(tok[k]) + "'");
+        if (!std::isfinite(v)) fail(file, start_line, "number out of range " + quote_input(tok[k]));
         if (k <= 4) values[k - 1] = v;
       }
       return values;
@@ -189,7 +189,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       const bool face = key == "f" || key == "fo";
       const std::size_t need = face ? 3 : 1;
       if (tok.size() - 1 < need)
-        fail(file, start_line, std::string("'") + std::string(key) + "' needs at least " + std::to_string(need) +
+        fail(file, start_line, quote_input(key) + " needs at least " + std::to_string(need) +
                                    " vertices, found " + std::to_string(tok.size() - 1));
       for (std::size_t k = 1; k < tok.size(); ++k) {
         const std::string_view ref = tok[k];
@@ -201,7 +201,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
           if (!(field.empty() && part > 0)) {
             long long idx = 0;
             if (!parse_int(field, idx) || idx == 0)
-              fail(file, start_line, "malformed vertex reference '" + std::string(ref) + "'");
+              fail(file, start_line, "malformed vertex reference " + quote_input(ref));
             const long long n = static_cast<long long>(count);
             if (idx > n || idx < -n)
               fail(file, start_line, std::string(part == 0 ? "vertex" : part == 1 ? "texture coordinate" : "normal") +
@@ -213,7 +213,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
           pos = slash + 1;
         }
         if (part > 3 || (pos < ref.size() && ref.find('/', pos) != std::string_view::npos))
-          fail(file, start_line, "malformed vertex reference '" + std::string(ref) + "'");
+          fail(file, start_line, "malformed vertex reference " + quote_input(ref));
       }
       if (face) ++scan.faces; else ++scan.lines_points;
     } else if (key == "o" || key == "g") {
@@ -221,6 +221,10 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       current_group = tok.size() > 1 ? std::string(tok[1]) : std::string();
       // as assimp names them: `o` up to the first space, `g` the whole rest
       for (std::size_t k = 2; k < tok.size() && key == "g"; ++k) current_group.append(" ").append(tok[k]);
+      // assimp's aiString holds 1023 bytes: a longer name would silently become ""
+      if (current_group.size() > 1023)
+        fail(file, start_line, "object name longer than 1023 bytes (" + std::to_string(current_group.size()) + "): " +
+                                   quote_input(current_group));
       in_pin_object = is_pin_object_name(current_group);
     } else if (key == "mtllib") {
       // A name may hold spaces; assimp takes the rest of the line.
@@ -237,7 +241,8 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   return scan;
 }
 
-void prescan_mtl_file(const std::filesystem::path& file) {
+std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file) {
+  std::vector<MapKd> maps;
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string() + ": cannot open: " + std::strerror(errno));
   std::string line;
@@ -268,19 +273,27 @@ void prescan_mtl_file(const std::filesystem::path& file) {
       in_material = true;
       continue;
     }
-    if (!in_material) fail(file, line_no, "'" + std::string(key) + "' before any 'newmtl'");
+    if (!in_material) fail(file, line_no, quote_input(key) + " before any 'newmtl'");
+    if (key == "map_Kd" && tok.size() > 1) {
+      // the rest of the line (options and the file name), to tell a missing texture's line
+      const std::size_t from = static_cast<std::size_t>(tok[1].data() - line.data());
+      std::string arg = line.substr(from);
+      while (!arg.empty() && (arg.back() == ' ' || arg.back() == '\t' || arg.back() == '\r')) arg.pop_back();
+      maps.push_back({arg, line_no});
+    }
     if (key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf" || key == "Ns" || key == "d" ||
         key == "Tr" || key == "Ni") {
       for (std::size_t k = 1; k < tok.size(); ++k) {
         double v = 0;
         if (parse_number(tok[k], v)) {
-          if (!std::isfinite(v)) fail(file, line_no, "number out of range '" + std::string(tok[k]) + "'");
+          if (!std::isfinite(v)) fail(file, line_no, "number out of range " + quote_input(tok[k]));
         } else if (is_number_like(tok[k])) {
-          fail(file, line_no, "non-finite value '" + std::string(tok[k]) + "'");
+          fail(file, line_no, "non-finite value " + quote_input(tok[k]));
         }
       }
     }
   }
+  return maps;
 }
 
 bool is_pin_object_name(const std::string& name) {

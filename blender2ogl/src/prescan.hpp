@@ -21,7 +21,13 @@ ObjScan prescan_obj_file(const std::filesystem::path& file);
 
 /// Checks a .mtl the same way (assimp 5.2.5 crashes on a statement before the first
 /// `newmtl`). Throws InputError ("file:line: what").
-void prescan_mtl_file(const std::filesystem::path& file);
+/// Returns its `map_Kd` lines (argument as written, line number) so a missing texture can be
+/// reported at its line.
+struct MapKd {
+  std::string argument;
+  std::size_t line = 0;
+};
+std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file);
 
 bool is_pin_object_name(const std::string& name);
 /// "Cloth_pins" -> "Cloth"

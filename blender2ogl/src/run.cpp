@@ -22,7 +22,7 @@ std::string depfile_escape(const std::string& p) {
 
 int run(const Options& opt, std::ostream& log) {
   const auto t0 = std::chrono::steady_clock::now();
-  Scene scene = import_scene(opt.input, opt.merge);
+  Scene scene = import_scene(opt.input, opt.merge, opt.allow_missing);
   scene.name = clean_identifier(opt.name.empty() ? opt.input.stem().string() : opt.name);
   Stats stats;
   auto t1 = std::chrono::steady_clock::now();

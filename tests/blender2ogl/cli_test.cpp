@@ -84,7 +84,7 @@ TEST(Cli, HelpVersionAndStatistics) {
   // default target: the input's folder; -n names the files
   const auto in = scratch("cli_default_target");
   fs::copy_file(fixture("plain.obj"), in / "plain.obj");
-  ASSERT_EQ(run_converter({"-n", "flat", (in / "plain.obj").string()}).exit_code, 0);
+  ASSERT_EQ(run_converter({"--allow-missing", "-n", "flat", (in / "plain.obj").string()}).exit_code, 0);
   EXPECT_TRUE(fs::exists(in / "flat.h"));
   EXPECT_TRUE(fs::exists(in / "flat.cpp"));
   EXPECT_TRUE(fs::exists(in / "flat.S"));
@@ -121,17 +121,67 @@ TEST(Cli, MtlProblemsAreRefusedWithTheirFileAndLine) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
+// A missing .mtl or texture: an error at its mtllib / map_Kd line (exit 1, nothing written);
+// --allow-missing turns both into warnings and converts without them.
+TEST(Cli, MissingMtlAndTextureAreErrorsUnlessAllowed) {
+  const auto dir = scratch("cli_allow_missing");
+  write_file(dir / "m.obj", "# made here\nmtllib lost.mtl\no Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl M\nf 1 2 3\n");
+  auto r = run_converter({"-t", (dir / "out").string(), (dir / "m.obj").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "m.obj").string() + ":2: material library 'lost.mtl' not found (" +
+                          (dir / "lost.mtl").string() + ")"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  r = run_converter({"--allow-missing", "-t", (dir / "out").string(), (dir / "m.obj").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: " + (dir / "m.obj").string() + ":2: material library 'lost.mtl' not found"),
+            std::string::npos)
+      << r.output;
+  EXPECT_TRUE(fs::exists(dir / "out" / "m.h"));
+
+  write_file(dir / "t.obj", "mtllib t.mtl\no Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl M\nf 1 2 3\n");
+  write_file(dir / "t.mtl", "newmtl M\nKd 1 0 0\n\nmap_Kd -s 1 1 1 img/lost.png\n");
+  r = run_converter({"-t", (dir / "out2").string(), (dir / "t.obj").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "t.mtl").string() + ":4: texture 'img/lost.png' of material 'M' not found (" +
+                          (dir / "img" / "lost.png").string()),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out2"));
+  // unreadable (a folder in its place) is refused the same way
+  fs::create_directories(dir / "img" / "lost.png");
+  r = run_converter({"-t", (dir / "out2").string(), (dir / "t.obj").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "t.mtl").string() + ":4: texture 'img/lost.png' of material 'M' is not a readable file"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out2"));
+  r = run_converter({"--allow-missing", "-t", (dir / "out2").string(), (dir / "t.obj").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: " + (dir / "t.mtl").string() + ":4: texture 'img/lost.png'"), std::string::npos)
+      << r.output;
+  EXPECT_TRUE(fs::exists(dir / "out2" / "t.h"));
+  EXPECT_EQ(run_converter({"--allow-missing=yes", (dir / "t.obj").string()}).exit_code, 2);
+  EXPECT_NE(run_converter({"--help"}).output.find("--allow-missing"), std::string::npos);
+}
+
 // Found by fuzzing: assimp reads <model>.mtl when the named library is missing, and ends a
 // line at a lone '\r'; both would let text reach assimp unchecked.
 TEST(Cli, FallbackMtlAndLoneCarriageReturnAreChecked) {
   const auto dir = scratch("cli_fallback");
   write_file(dir / "b.obj", "mtllib gone.mtl\no Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl M\nf 1 2 3\n");
   write_file(dir / "b.mtl", "Kd 1 1 1\nnewmtl M\n");
-  auto r = run_converter({"-t", (dir / "out").string(), (dir / "b.obj").string()});
+  // (the fallback is only taken when a missing library is allowed)
+  auto r = run_converter({"--allow-missing", "-t", (dir / "out").string(), (dir / "b.obj").string()});
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find((dir / "b.mtl").string() + ":1: 'Kd' before any 'newmtl'"), std::string::npos) << r.output;
   write_file(dir / "b.mtl", "newmtl M\nKd 1 0.5 0\n");
   r = run_converter({"-t", (dir / "out").string(), (dir / "b.obj").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "b.obj").string() + ":1: material library 'gone.mtl' not found"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  r = run_converter({"--allow-missing", "-t", (dir / "out").string(), (dir / "b.obj").string()});
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("assimp reads 'b.mtl' instead"), std::string::npos) << r.output;
   write_file(dir / "c.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n# note\rf 1 2 3\n");
@@ -144,11 +194,11 @@ TEST(Cli, FallbackMtlAndLoneCarriageReturnAreChecked) {
 
 TEST(Cli, FolderInAnOutputsPlaceChangesNothing) {
   const auto dir = scratch("cli_taken");
-  ASSERT_EQ(run_converter({"-t", dir.string(), fixture("plain.obj").string()}).exit_code, 0);
+  ASSERT_EQ(run_converter({"--allow-missing", "-t", dir.string(), fixture("plain.obj").string()}).exit_code, 0);
   fs::remove(dir / "plain.S");
   fs::create_directory(dir / "plain.S");
   const auto before = snapshot(dir);
-  const auto r = run_converter({"-a", "plain", "-t", dir.string(), fixture("plain.obj").string()});
+  const auto r = run_converter({"--allow-missing", "-a", "plain", "-t", dir.string(), fixture("plain.obj").string()});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find((dir / "plain.S").string() + ": cannot write"), std::string::npos) << r.output;
   EXPECT_EQ(snapshot(dir), before);

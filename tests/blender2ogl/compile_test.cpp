@@ -66,7 +66,7 @@ void compile_and_read_back(const std::string& compiler, const std::string& std_f
     o.cloth_objects = in.cloths;
     o.params = in.params;
     try {
-      conv::Scene s = conv::import_scene(o.input, false);
+      conv::Scene s = conv::import_scene(o.input, false, /*allow_missing=*/true);  // plain.obj, missing_tex.obj
       s.name = conv::clean_identifier(o.name);
       if (in.first_object_cloth) o.cloth_objects.push_back(s.objects.front().name);
       conv::Stats stats;

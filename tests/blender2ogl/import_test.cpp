@@ -58,8 +58,32 @@ TEST(Import, NgonsNegativeIndicesGroupsAndCrlf) {
   }
 }
 
-TEST(Import, NoObjectLinesNamedAfterFileAndMissingMtlWarns) {
-  const auto s = import_scene(fixture("plain.obj"), false);
+TEST(Import, MissingMtlIsAnErrorAtItsLine) {
+  try {
+    (void)import_scene(fixture("plain.obj"), false);
+    FAIL() << "a missing .mtl was accepted";
+  } catch (const b2o::conv::InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind(fixture("plain.obj").string() + ":1: material library 'missing.mtl' not found", 0), 0u) << msg;
+    EXPECT_NE(msg.find((fixture("plain.obj").parent_path() / "missing.mtl").string()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("--allow-missing"), std::string::npos) << msg;
+  }
+}
+
+TEST(Import, MissingTextureIsAnErrorAtItsMtlLine) {
+  try {
+    (void)import_scene(fixture("missing_tex.obj"), false);
+    FAIL() << "a missing texture was accepted";
+  } catch (const b2o::conv::InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind(fixture("missing_tex.mtl").string() + ":3: texture 'no_such_image.png' of material 'Painted' not found", 0), 0u) << msg;
+    EXPECT_NE(msg.find((fixture("missing_tex.obj").parent_path() / "no_such_image.png").string()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("missing_tex.obj"), std::string::npos) << msg;
+  }
+}
+
+TEST(Import, NoObjectLinesNamedAfterFileAndAllowedMissingMtlWarns) {
+  const auto s = import_scene(fixture("plain.obj"), false, /*allow_missing=*/true);
   ASSERT_EQ(s.objects.size(), 1u);
   EXPECT_EQ(s.objects[0].name, "plain");
   ASSERT_EQ(s.materials.size(), 1u);  // assimp's default material
@@ -68,8 +92,8 @@ TEST(Import, NoObjectLinesNamedAfterFileAndMissingMtlWarns) {
   EXPECT_TRUE(warned);
 }
 
-TEST(Import, MissingTextureWarnsAndGivesNoTexture) {
-  const auto s = import_scene(fixture("missing_tex.obj"), false);
+TEST(Import, AllowedMissingTextureWarnsAndGivesNoTexture) {
+  const auto s = import_scene(fixture("missing_tex.obj"), false, /*allow_missing=*/true);
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.materials[0].diffuse_texture, -1);
   EXPECT_TRUE(s.textures.empty());
@@ -89,7 +113,7 @@ TEST(Import, MergeMakesOneObject) {
 // bit-identical duplicates).
 TEST(Import, EveryCornerBitExactToAssimp) {
   for (const char* name : {"grid.obj", "ngons_crlf.obj", "odd_names.obj", "plain.obj"}) {
-    const auto s = import_scene(fixture(name), false);
+    const auto s = import_scene(fixture(name), false, /*allow_missing=*/true);  // plain.obj's .mtl is missing
     Assimp::Importer imp;
     imp.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     const aiScene* ai = imp.ReadFile(fixture(name).string(), b2o::conv::import_flags());

@@ -206,26 +206,84 @@ TEST(BadInput, OutputNameTakenByFolderChangesNothing) {
   }
 }
 
-// A .mtl or texture that cannot be read (a folder in its place) is treated like a missing one:
-// a warning naming it, and the model converted without it.
+// A .mtl or texture that cannot be read (a folder in its place) is refused like a missing one,
+// at its mtllib / map_Kd line; --allow-missing converts without a texture it cannot read.
 TEST(BadInput, UnreadableMtlAndTexture) {
   TempDir work("mtl");
   const fs::path input = work.path / "model.obj";
   reliability::write_file(input, "mtllib model.mtl\no Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl M\nf 1 2 3\n");
   fs::create_directory(work.path / "model.mtl");
+  fill_with_old_outputs(work.path / "out1", "model");
+  auto before = reliability::snapshot(work.path / "out1");
   Result r = reliability::run({kExe, "-t", (work.path / "out1").string(), input.string()});
-  // Refused (1) or converted with a warning (0); never a crash.
-  EXPECT_EQ(r.signal, 0);
-  EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 1) << r.err;
-  EXPECT_EQ(lines_of(r.err).size(), 1u) << r.err;
-  EXPECT_EQ(fs::exists(work.path / "out1"), r.exit_code == 0);
+  expect_one_line_error(r, input.string() + ":1:", "material library 'model.mtl' is not a readable file");
+  EXPECT_EQ(reliability::snapshot(work.path / "out1"), before);
 
   fs::remove(work.path / "model.mtl");
   reliability::write_file(work.path / "model.mtl", "newmtl M\nKd 1 0 0\nmap_Kd tex.png\n");
   fs::create_directory(work.path / "tex.png");
-  r = reliability::run({kExe, "-t", (work.path / "out2").string(), input.string()});
+  before = reliability::snapshot(work.path / "out1");
+  r = reliability::run({kExe, "-t", (work.path / "out1").string(), input.string()});
+  expect_one_line_error(r, (work.path / "model.mtl").string() + ":3:", "texture 'tex.png' of material 'M' is not a readable file");
+  EXPECT_EQ(reliability::snapshot(work.path / "out1"), before);
+  r = reliability::run({kExe, "--allow-missing", "-t", (work.path / "out2").string(), input.string()});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("tex.png"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(work.path / "out2" / "model.h"));
+}
+
+// Quoted input is clipped: a megabyte token gives a short line, not a megabyte one.
+TEST(BadInput, QuotedTextIsClipped) {
+  TempDir work("clip");
+  const std::size_t mb = std::size_t{1} << 20;
+  const fs::path input = work.path / "model.obj";
+  reliability::write_file(input, "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 " + std::string(mb, 'x') + "\nf 1 2 3\n");
+  Result r = reliability::run({kExe, "-t", (work.path / "out").string(), input.string()});
+  expect_one_line_error(r, input.string() + ":4:", "malformed number '" + std::string(60, 'x') + "...'");
+  EXPECT_LT(r.err.size(), input.string().size() + 200) << r.err.substr(0, 300);
+  // the same for a name quoted by the bake (-a of an object that is not there)
+  reliability::write_file(input, kTriangle);
+  r = reliability::run({kExe, "-a", std::string(5000, 'N'), "-t", (work.path / "out").string(), input.string()});
+  expect_one_line_error(r, input.string(), "no object '" + std::string(60, 'N') + "...'");
+  EXPECT_LT(r.err.size(), input.string().size() + 300) << r.err.substr(0, 400);
+  EXPECT_FALSE(fs::exists(work.path / "out"));
+}
+
+// assimp keeps names of at most 1023 bytes (aiString); a longer one would silently become "".
+TEST(BadInput, ObjectNameOver1023BytesIsRefused) {
+  TempDir work("longname");
+  const fs::path input = work.path / "model.obj";
+  for (const char* key : {"o", "g"}) {
+    SCOPED_TRACE(key);
+    reliability::write_file(input, std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\n") + key + " " + std::string(1024, 'n') +
+                                       "\nf 1 2 3\n");
+    const Result r = reliability::run({kExe, "-t", (work.path / "out").string(), input.string()});
+    expect_one_line_error(r, input.string() + ":4:", "object name longer than 1023 bytes");
+    EXPECT_FALSE(fs::exists(work.path / "out"));
+  }
+  // 1023 bytes is kept whole
+  const std::string name(1023, 'n');
+  reliability::write_file(input, "o " + name + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const Result r = reliability::run({kExe, "-t", (work.path / "out").string(), input.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(reliability::read_file(work.path / "out" / "model.h").find('"' + name + '"'), std::string::npos);
+}
+
+// Fuzz finding 9: finite coordinates near +-3e38 whose distance overflows a float.
+TEST(BadInput, HugeCoordinatesOverflowingARestLengthAreRefused) {
+  TempDir work("huge");
+  const fs::path input = work.path / "model.obj";
+  reliability::write_file(input, "o Sheet\nv -3e38 0 0\nv 3e38 0 0\nv 0 1 0\nf 1 2 3\n");
+  const fs::path target = work.path / "target";
+  fill_with_old_outputs(target, "model");
+  const auto before = reliability::snapshot(target);
+  Result r = reliability::run({kExe, "-a", "Sheet", "-t", target.string(), input.string()});
+  expect_one_line_error(r, input.string() + ": cloth 'Sheet'", "coordinates too large: spring rest length overflows");
+  EXPECT_EQ(reliability::snapshot(target), before);
+  // 1e38 apart is still a float: accepted
+  reliability::write_file(input, "o Sheet\nv -1e38 0 0\nv 1e38 0 0\nv 0 1 0\nf 1 2 3\n");
+  r = reliability::run({kExe, "-a", "Sheet", "-t", target.string(), input.string()});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
 TEST(BadUsage, ExitsTwoWithOneLine) {
