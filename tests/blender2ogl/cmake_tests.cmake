@@ -44,6 +44,23 @@ if(NOT last_output MATCHES "scene tiny vertices 13 triangles 10 objects 2 masses
   message(FATAL_ERROR "unexpected output of the outside program:\n${last_output}")
 endif()
 if(MODE STREQUAL "outside")
+  # A missing texture fails the bake with the converter's message at the map_Kd line;
+  # ALLOW_MISSING bakes without it.
+  file(REMOVE "${src}/model/checker.png")
+  run(${CMAKE_COMMAND} -S "${src}" -B "${bin}")
+  execute_process(COMMAND ${CMAKE_COMMAND} --build "${bin}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(rc EQUAL 0 OR NOT "${out}${err}" MATCHES "grid\\.mtl:9: texture 'checker\\.png' of material 'Checker' not found")
+    message(FATAL_ERROR "a missing texture did not fail the bake at its line (${rc}):\n${out}${err}")
+  endif()
+  run(${CMAKE_COMMAND} -S "${src}" -B "${bin}" -DB2O_ALLOW_MISSING=ON)
+  run(${CMAKE_COMMAND} --build "${bin}")
+  if(NOT last_output MATCHES "warning: .*texture 'checker\\.png'")
+    message(FATAL_ERROR "ALLOW_MISSING: no warning:\n${last_output}")
+  endif()
+  run("${bin}/outside")
+  if(NOT last_output MATCHES "scene tiny vertices 13 .* texture 0")
+    message(FATAL_ERROR "ALLOW_MISSING: unexpected output of the outside program:\n${last_output}")
+  endif()
   return()
 endif()
 
