@@ -136,10 +136,19 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
 /// must not become a megabyte line).
 inline std::string quote_input(std::string_view text) {
   constexpr std::size_t kMax = 60;
-  if (text.size() <= kMax) return "'" + std::string(text) + "'";
-  std::size_t cut = kMax;
-  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // whole UTF-8 characters
-  return "'" + std::string(text.substr(0, cut)) + "...'";
+  std::size_t cut = text.size();
+  if (cut > kMax) {
+    cut = kMax;
+    while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // whole UTF-8 characters
+  }
+  // (appended piece by piece: "'" + std::string + "'" trips g++ 12's -Wrestrict when inlined)
+  std::string out;
+  out.reserve(cut + 5);
+  out.push_back('\'');
+  out.append(text.substr(0, cut));
+  if (cut < text.size()) out.append("...");
+  out.push_back('\'');
+  return out;
 }
 
 /// Cleans `name` into a C++ identifier (not a keyword, no reserved spelling).

@@ -60,7 +60,7 @@ float parse_float(const std::string& s, const std::string& what) {
   errno = 0;
   const float v = std::strtof(s.c_str(), &end);
   if (s.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(v))
-    throw UsageError(what + ": '" + s + "' is not a finite number");
+    throw UsageError(what + ": " + b2o::conv::quote_input(s) + " is not a finite number");
   return v;
 }
 
@@ -148,13 +148,13 @@ b2o::conv::Options parse(int argc, char** argv, bool& done) {
     } else if (arg == "--depfile") {
       o.depfile = need("--depfile");
     } else if (arg.size() > 1 && arg[0] == '-') {
-      throw UsageError("unknown option '" + arg + "'");
+      throw UsageError("unknown option " + b2o::conv::quote_input(arg));
     } else {
       positional.push_back(arg);
     }
   }
   if (positional.empty()) throw UsageError("no model file given");
-  if (positional.size() > 1) throw UsageError("one model file at a time (got '" + positional[1] + "' too)");
+  if (positional.size() > 1) throw UsageError("one model file at a time (got " + b2o::conv::quote_input(positional[1]) + " too)");
   o.input = positional.front();
   return o;
 }

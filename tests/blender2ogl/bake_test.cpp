@@ -161,3 +161,15 @@ TEST(Bake, PinHelperTooFarIsAnError) {
 }
 
 }  // namespace
+
+// Every message quotes input through quote_input: short text whole, long text clipped to 60
+// bytes + "..." without splitting a UTF-8 character.
+TEST(Messages, QuoteInputClipsLongTextOnACharacterBoundary) {
+  EXPECT_EQ(b2o::conv::quote_input("Cloth"), "'Cloth'");
+  EXPECT_EQ(b2o::conv::quote_input(std::string(60, 'a')), "'" + std::string(60, 'a') + "'");
+  EXPECT_EQ(b2o::conv::quote_input(std::string(61, 'a')), "'" + std::string(60, 'a') + "...'");
+  // 59 ASCII bytes, then a 2-byte character across the 60-byte limit: cut before it
+  const std::string text = std::string(59, 'a') + "\xC3\xA9" + std::string(1000, 'b');
+  EXPECT_EQ(b2o::conv::quote_input(text), "'" + std::string(59, 'a') + "...'");
+  EXPECT_EQ(b2o::conv::quote_input(std::string(1 << 20, 'x')).size(), 65u);
+}
