@@ -242,6 +242,7 @@ __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const Sp
   const __m256d gamma = _mm256_set1_pd(model.options.damping);
   const std::uint32_t* start = adj.start.data();
   const std::uint32_t* entry = adj.entry.data();
+  alignas(32) static const double signs[8] = {0.0, 0.0, 0.0, 0.0, -0.0, -0.0, -0.0, -0.0};
   for (std::size_t i = i0; i < i1; ++i) {
     __m256d f;
     if (pv) {
@@ -253,8 +254,7 @@ __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const Sp
     for (std::uint32_t e = start[i], end = start[i + 1]; e < end; ++e) {
       // +-fs: flip the sign bits for the b end (x + (-y) == x - y exactly)
       const std::uint32_t en = entry[e];
-      const __m256d sign =
-          _mm256_castsi256_pd(_mm256_set1_epi64x(static_cast<long long>(std::uint64_t{en >> 31} << 63)));
+      const __m256d sign = _mm256_load_pd(signs + 4 * (en >> 31));
       f = _mm256_add_pd(f, _mm256_xor_pd(_mm256_load_pd(fs + 4 * std::size_t{en & ~SpringAdjacency::kB}), sign));
     }
     _mm_storeu_pd(pf + 3 * i, _mm256_castpd256_pd128(f));
