@@ -64,6 +64,16 @@ SpringAdjacency SpringAdjacency::build(const Model& model) {
     a.entry[fill[model.spring_a[s]]++] = static_cast<std::uint32_t>(s);
     a.entry[fill[model.spring_b[s]]++] = static_cast<std::uint32_t>(s) | kB;
   }
+  // each spring goes to the block of its lower mass: the first block whose masses need it
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  a.block_start.assign(blocks + 1, 0);
+  for (std::size_t s = 0; s < s_count; ++s)
+    ++a.block_start[std::min(model.spring_a[s], model.spring_b[s]) / kBlock + 1];
+  for (std::size_t b = 0; b < blocks; ++b) a.block_start[b + 1] += a.block_start[b];
+  a.block_springs.resize(s_count);
+  std::vector<std::uint32_t> bfill(a.block_start.begin(), a.block_start.end() - 1);
+  for (std::size_t s = 0; s < s_count; ++s)
+    a.block_springs[bfill[std::min(model.spring_a[s], model.spring_b[s]) / kBlock]++] = static_cast<std::uint32_t>(s);
   return a;
 }
 
@@ -150,12 +160,14 @@ double* aligned32(std::vector<double>& v) {
 // Pass 1, springs [s0, s1): fs[4s..4s+2] = c dx, c = k (l - |dx|) / |dx|, the scatter's
 // arithmetic. |dx| = 0 gives 0 (the scatter skips such a spring; adding +-0 changes nothing
 // but an exactly -0.0 partial force, which m g - gamma v does not produce).
-void spring_pass_scalar(const Model& model, const double* px, double* fs, std::size_t s0, std::size_t s1) {
+void spring_pass_scalar(const Model& model, const double* px, double* fs, std::size_t j0, std::size_t j1,
+                        const std::uint32_t* list = nullptr) {
   const std::uint32_t* sa = model.spring_a.data();
   const std::uint32_t* sb = model.spring_b.data();
   const double* rest = model.rest_length0.data();
   const double* k = model.stiffness.data();
-  for (std::size_t s = s0; s < s1; ++s) {
+  for (std::size_t j = j0; j < j1; ++j) {
+    const std::size_t s = list ? list[j] : j;  // springs j0..j1, or those a list names
     const std::size_t a = 3 * std::size_t{sa[s]}, b = 3 * std::size_t{sb[s]};
     const double dx = px[a] - px[b], dy = px[a + 1] - px[b + 1], dz = px[a + 2] - px[b + 2];
     const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
@@ -192,20 +204,23 @@ void mass_pass_scalar(const Model& model, const SpringAdjacency& adj, const doub
 
 #ifdef CLOTHSIM_AVX2
 __attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const double* px, double* fs,
-                                                      std::size_t s0, std::size_t s1) {
+                                                      std::size_t j0, std::size_t j1,
+                                                      const std::uint32_t* list = nullptr) {
   const std::uint32_t* sa = model.spring_a.data();
   const std::uint32_t* sb = model.spring_b.data();
   const double* rest = model.rest_length0.data();
   const double* k = model.stiffness.data();
   const __m256d zero = _mm256_setzero_pd();
   const __m256i xyz = _mm256_setr_epi64x(-1, -1, -1, 0);  // lanes x, y, z of a mass (never past x's end)
-  std::size_t s = s0;
-  for (; s + 4 <= s1; s += 4) {
+  std::size_t j = j0;
+  for (; j + 4 <= j1; j += 4) {
+    std::size_t sl[4];
+    for (int l = 0; l < 4; ++l) sl[l] = list ? list[j + l] : j + l;
     // per spring a lane vector xa - xb = (dx, dy, dz, 0), then transposed to dx, dy, dz of 4 springs
     __m256d d[4];
     for (int l = 0; l < 4; ++l)
-      d[l] = _mm256_sub_pd(_mm256_maskload_pd(px + 3 * std::size_t{sa[s + l]}, xyz),
-                           _mm256_maskload_pd(px + 3 * std::size_t{sb[s + l]}, xyz));
+      d[l] = _mm256_sub_pd(_mm256_maskload_pd(px + 3 * std::size_t{sa[sl[l]]}, xyz),
+                           _mm256_maskload_pd(px + 3 * std::size_t{sb[sl[l]]}, xyz));
     const __m256d u0 = _mm256_unpacklo_pd(d[0], d[1]);  // x0 x1 z0 z1
     const __m256d u1 = _mm256_unpackhi_pd(d[0], d[1]);  // y0 y1 0 0
     const __m256d u2 = _mm256_unpacklo_pd(d[2], d[3]);  // x2 x3 z2 z3
@@ -216,7 +231,10 @@ __attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const 
     const __m256d len2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
                                        _mm256_mul_pd(dz, dz));
     const __m256d len = _mm256_sqrt_pd(len2);
-    __m256d c = _mm256_div_pd(_mm256_mul_pd(_mm256_loadu_pd(k + s), _mm256_sub_pd(_mm256_loadu_pd(rest + s), len)), len);
+    const __m256d kv = list ? _mm256_setr_pd(k[sl[0]], k[sl[1]], k[sl[2]], k[sl[3]]) : _mm256_loadu_pd(k + j);
+    const __m256d rv = list ? _mm256_setr_pd(rest[sl[0]], rest[sl[1]], rest[sl[2]], rest[sl[3]])
+                            : _mm256_loadu_pd(rest + j);
+    __m256d c = _mm256_div_pd(_mm256_mul_pd(kv, _mm256_sub_pd(rv, len)), len);
     c = _mm256_blendv_pd(c, zero, _mm256_cmp_pd(len, zero, _CMP_EQ_OQ));
     const __m256d fx = _mm256_mul_pd(c, dx), fy = _mm256_mul_pd(c, dy), fz = _mm256_mul_pd(c, dz);
     // transpose (fx, fy, fz, 0) of 4 springs into 4 blocks x, y, z, 0
@@ -224,13 +242,12 @@ __attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const 
     const __m256d t1 = _mm256_unpackhi_pd(fx, fy);    // x1 y1 x3 y3
     const __m256d t2 = _mm256_unpacklo_pd(fz, zero);  // z0 0 z2 0
     const __m256d t3 = _mm256_unpackhi_pd(fz, zero);  // z1 0 z3 0
-    double* o = fs + 4 * s;
-    _mm256_store_pd(o, _mm256_permute2f128_pd(t0, t2, 0x20));
-    _mm256_store_pd(o + 4, _mm256_permute2f128_pd(t1, t3, 0x20));
-    _mm256_store_pd(o + 8, _mm256_permute2f128_pd(t0, t2, 0x31));
-    _mm256_store_pd(o + 12, _mm256_permute2f128_pd(t1, t3, 0x31));
+    _mm256_store_pd(fs + 4 * sl[0], _mm256_permute2f128_pd(t0, t2, 0x20));
+    _mm256_store_pd(fs + 4 * sl[1], _mm256_permute2f128_pd(t1, t3, 0x20));
+    _mm256_store_pd(fs + 4 * sl[2], _mm256_permute2f128_pd(t0, t2, 0x31));
+    _mm256_store_pd(fs + 4 * sl[3], _mm256_permute2f128_pd(t1, t3, 0x31));
   }
-  spring_pass_scalar(model, px, fs, s, s1);
+  spring_pass_scalar(model, px, fs, j, j1, list);
 }
 
 __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const SpringAdjacency& adj,
@@ -282,6 +299,25 @@ void gathered_springs(const Model& model, const Eigen::Matrix3Xd& x, const doubl
 #ifdef CLOTHSIM_AVX2
   const bool avx2 = use_avx2() && 3 * model.mass_count() < 0x80000000u;
 #endif
+  if (nt <= 1 && !adj.block_start.empty()) {
+    // One thread: block by block, each block's new springs then its masses, so that the spring
+    // blocks a mass reads were written moments ago (still in L2). Same values, same order.
+    const std::size_t blocks = adj.block_start.size() - 1, nm = model.mass_count();
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::size_t j0 = adj.block_start[b], j1 = adj.block_start[b + 1];
+      const std::size_t i0 = b * SpringAdjacency::kBlock, i1 = std::min(nm, i0 + SpringAdjacency::kBlock);
+#ifdef CLOTHSIM_AVX2
+      if (avx2) {
+        spring_pass_avx2(model, px, fs, j0, j1, adj.block_springs.data());
+        mass_pass_avx2(model, adj, fs, pv, pf, i0, i1);
+        continue;
+      }
+#endif
+      spring_pass_scalar(model, px, fs, j0, j1, adj.block_springs.data());
+      mass_pass_scalar(model, adj, fs, pv, pf, i0, i1);
+    }
+    return;
+  }
   auto chunk = [](std::int64_t count, int t, int parts) {  // [lo, hi) of part t, lo a multiple of 4
     const std::int64_t per = (count / parts + 3) / 4 * 4;
     return std::pair<std::size_t, std::size_t>(static_cast<std::size_t>(std::min(count, t * per)),

@@ -17,9 +17,17 @@ struct SpringAdjacency {
   static constexpr std::uint32_t kB = 0x80000000u;  ///< entry flag: i is the b end
   std::vector<std::uint32_t> start;   ///< (n + 1)
   std::vector<std::uint32_t> entry;   ///< (2 s)
+  /// One thread works in blocks of kBlock masses: block_springs[block_start[b] ..
+  /// block_start[b+1]) are the springs whose lower mass is in block b (computed just before
+  /// the block's masses gather them).
+  static constexpr std::size_t kBlock = 1024;
+  std::vector<std::uint32_t> block_start;    ///< (blocks + 1)
+  std::vector<std::uint32_t> block_springs;  ///< (s)
   /// Throws std::length_error for more than 2^31 - 1 springs.
   static SpringAdjacency build(const Model& model);
-  std::size_t bytes() const { return (start.size() + entry.size()) * sizeof(std::uint32_t); }
+  std::size_t bytes() const {
+    return (start.size() + entry.size() + block_start.size() + block_springs.size()) * sizeof(std::uint32_t);
+  }
 };
 
 /// Scratch memory for step(), sized once from a Model so that step() never allocates.
