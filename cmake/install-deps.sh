@@ -14,7 +14,7 @@ packages=(
   # headless OpenGL (Mesa's llvmpipe under Xvfb)
   xvfb xauth x11-utils libgl1-mesa-dri mesa-utils
   # fuzzing and sanitizers (clang + libFuzzer), plots, OBJ test models
-  clang libclang-rt-14-dev gnuplot-nox assimp-testmodels
+  clang libclang-rt-14-dev libomp-dev gnuplot-nox assimp-testmodels
   # time -v for the build-speed benchmark
   time
   # strace: fault injection (SIGKILL at the K-th write/rename) in the reliability tests
