@@ -254,13 +254,15 @@ std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file) {
     std::size_t start = std::string::npos;
     for (std::size_t i = 0; i <= line.size(); ++i) {
       const unsigned char c = i < line.size() ? static_cast<unsigned char>(line[i]) : ' ';
-      if (c < 0x20 && c != '\t' && c != '\r' && c != '\f' && c != '\v') {
+      // Vertical tab and form feed too: assimp does not skip them, so "\vnewmtl" is no newmtl
+      // to it, and a statement after it crashed assimp 5.2.5 (found by the long fuzz run).
+      if (c < 0x20 && c != '\t' && c != '\r') {
         const char* hex = "0123456789abcdef";
         fail(file, line_no, std::string("binary data (byte 0x") + hex[c >> 4] + hex[c & 15] + ") in a material file");
       }
       if (c == '\r' && i + 1 < line.size())
         fail(file, line_no, "carriage return inside a line (old Mac line endings are not supported)");
-      const bool space = c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+      const bool space = c == ' ' || c == '\t' || c == '\r';
       if (!space && start == std::string::npos) start = i;
       if (space && start != std::string::npos) {
         tok.emplace_back(line.data() + start, i - start);
