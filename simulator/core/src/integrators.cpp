@@ -70,16 +70,6 @@ auto accel(const Model& model, const Eigen::Matrix3Xd& f) {
   return (f.array().rowwise() * model.inv_mass.transpose().array()).matrix();
 }
 
-void save_pins(const State& s, Workspace& ws) {
-  for (std::size_t p = 0; p < ws.pinned_index.size(); ++p)
-    ws.pinned_x.col(static_cast<Eigen::Index>(p)) = s.x.col(ws.pinned_index[p]);
-}
-void restore_pins(State& s, const Workspace& ws) {
-  for (std::size_t p = 0; p < ws.pinned_index.size(); ++p) {
-    s.x.col(ws.pinned_index[p]) = ws.pinned_x.col(static_cast<Eigen::Index>(p));
-    s.v.col(ws.pinned_index[p]).setZero();
-  }
-}
 
 void explicit_euler(const Model& m, State& s, Workspace& ws, IntegratorScratch&, double h) {
   compute_forces(m, s.x, s.v, ws.f, ws);

@@ -436,6 +436,8 @@ bool all_finite(const State& s) {
   return std::isfinite(total);
 }
 
+}  // namespace
+
 void save_pins(const State& s, Workspace& ws) {
   for (std::size_t p = 0; p < ws.pinned_index.size(); ++p)
     ws.pinned_x.col(static_cast<Eigen::Index>(p)) = s.x.col(ws.pinned_index[p]);
@@ -448,8 +450,6 @@ void restore_pins(State& s, const Workspace& ws) {
     s.v.col(ws.pinned_index[p]).setZero();
   }
 }
-
-}  // namespace
 
 void step_symplectic_euler(const Model& model, State& state, Workspace& ws) {
   const double h = model.options.dt;

@@ -64,6 +64,11 @@ Workspace make_workspace(const Model& model);
 void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
                     Eigen::Matrix3Xd& f, Workspace& ws);
 
+/// Pinned masses around an integrator's update: save_pins() keeps their positions in ws,
+/// restore_pins() puts the exact bits back and zeroes their velocities.
+void save_pins(const State& s, Workspace& ws);
+void restore_pins(State& s, const Workspace& ws);
+
 /// One step of report eqs. 1-7 (no time bookkeeping; step() does that).
 void step_symplectic_euler(const Model& model, State& state, Workspace& ws);
 
