@@ -1,5 +1,6 @@
 // The integrators never allocate after their first step (the scratch is made once, on first
 // use): this executable replaces the global operator new and counts.
+#include "floor_collider.hpp"
 #include "inline_scenes.hpp"
 
 #include <clothsim/collision.hpp>
@@ -19,12 +20,7 @@ long allocations_in_steps(Integrator method) {
   ModelBuilder mb(o, "grid on a floor");
   const auto springs = test::grid_springs(8, 8);
   mb.add_cloth(test::grid_positions(8, 8, 0.1, 0.12), springs, std::vector<std::uint32_t>{0});
-  auto floor = std::make_shared<ColliderSet>();
-  Eigen::Matrix3Xd fv(3, 4);
-  fv << -5, 5, 5, -5, 0, 0, 0, 0, -5, -5, 5, 5;
-  floor->add_object("floor", fv, std::vector<std::uint32_t>{0, 2, 1, 0, 3, 2});
-  floor->build();
-  mb.set_colliders(floor);
+  mb.set_colliders(test::floor_collider());
   const Model m = mb.build();
   State s = make_state(m);
   Workspace ws = make_workspace(m);
