@@ -75,7 +75,7 @@ TEST(HardCase01, SymplecticEulerBlowUpAtTwoOverOmegaScalesAsInverseSqrtK) {
     o.k_struct = k;
     o.k_bend = k / 8.0;
     const Model m = test::grid_model(o, 6, 6);
-    const double omega = omega_max_power(m).omega;
+    const double omega = omega_max_lanczos(m).omega;
     const double limit = 2.0 / omega;
     EXPECT_LE(omega, omega_max_bound(m, false) * (1 + 1e-12));
     double lo = 0.8 * limit, hi = 1.2 * limit;

@@ -276,7 +276,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     return kExitFailed;
   }
 
-  // The stability guard: omega_max (springs by power iteration + contact), the limit of this
+  // The stability guard: omega_max (springs by Lanczos + contact), the limit of this
   // integrator, substeps or refusal, and the tunnelling check (docs/stability.md).
   const StabilityReport stab = analyse_stability(model);
   const SubstepPlan plan = plan_substeps(opts.dt, stab.dt_stable, substep_policy);

@@ -24,17 +24,17 @@ namespace clothsim {
 /// omega^2 <= max_i (2 sum_j k_ij + k_c) / m_i over free masses; k_c = k_rep if requested.
 double omega_max_bound(const Model& model, bool include_contact);
 
-/// What the power iteration found.
+/// What the Lanczos iteration found.
 struct OmegaEstimate {
-  double omega = 0.0;       ///< rad/s, sqrt of the Rayleigh quotient (a lower bound that converges)
+  double omega = 0.0;       ///< rad/s, sqrt of the largest Ritz value (a lower bound that converges)
   int iterations = 0;
-  double residual = 0.0;    ///< |A q - lambda q| / lambda at the end
+  double residual = 0.0;    ///< |A y - lambda y| / lambda for the top Ritz vector y, at the end
 };
 
-/// omega_max of the springs by power iteration on M^-1/2 K M^-1/2 (free masses only),
+/// omega_max of the springs by Lanczos iteration on M^-1/2 K M^-1/2 (free masses only),
 /// K taken at positions x (the Model's rest positions when x is null). Deterministic.
-OmegaEstimate omega_max_power(const Model& model, const Eigen::Matrix3Xd* x = nullptr,
-                              int max_iterations = 20000, double tolerance = 1e-7);
+OmegaEstimate omega_max_lanczos(const Model& model, const Eigen::Matrix3Xd* x = nullptr,
+                               int max_iterations = 2000, double tolerance = 1e-7);
 
 /// omega of the stiffest contact: sqrt(k_rep / m_min) over free masses (0 without colliders).
 double omega_contact(const Model& model);
@@ -46,7 +46,7 @@ double stable_dt(Integrator method, double omega, double zeta = 0.0);
 
 /// Everything the guard knows about a Model, printed at start and put in the JSON report.
 struct StabilityReport {
-  double omega_springs = 0.0;   ///< rad/s, power iteration
+  double omega_springs = 0.0;   ///< rad/s, Lanczos (a lower bound that converges)
   double omega_bound = 0.0;     ///< rad/s, Gershgorin with contact (safe)
   double omega_contact = 0.0;   ///< rad/s
   double omega_max = 0.0;       ///< rad/s, used for the limits: sqrt(springs^2 + contact^2) (Weyl)
