@@ -26,6 +26,10 @@
 
 namespace clothsim {
 
+namespace detail {
+struct Tri;
+}
+
 /// Which feature of a triangle the closest point lies on.
 enum class TriangleRegion : std::uint8_t { Face, EdgeAB, EdgeBC, EdgeCA, VertexA, VertexB, VertexC };
 
@@ -72,19 +76,41 @@ struct PenaltyStats {
 };
 
 /// Per (point, object) memory between calls that lets accumulate_penalty() skip the search
-/// when a point has moved less than the gap between its closest triangle and every other one
-/// (a certificate: the answer is exactly the one the search would give). Size it once with
-/// resize(points, objects) (allocates); then calls never allocate.
+/// while it provably gives the same answer (a certificate). Size it once with
+/// resize(points, objects, candidates) (allocates); then calls never allocate.
+///
+/// candidates = K >= 2 (the default, 8): a search collects the K nearest triangles within
+/// reach (a Verlet list) and L, a lower bound of the distance of every other triangle. While
+/// the point has moved d from where the list was made, only the candidates are evaluated
+/// (nearest first, stopping when the rest cannot win); if the best is closer than L - d it is
+/// the global answer, bit for bit. candidates = 1: the single-triangle certificate of earlier
+/// versions (the closest triangle and a 1-nearest search), kept as a reference.
 struct ContactCache {
+  static constexpr std::size_t kDefaultCandidates = 8;
+  static constexpr std::size_t kMaxCandidates = 32;  ///< resize() clamps to 1 .. this
   struct Entry {
     double x0[3] = {0.0, 0.0, 0.0};  ///< where the certificate was made
-    double others_lb = 0.0;          ///< every other triangle was at least this far from x0
-    std::int32_t tri = -2;           ///< closest input triangle then, -1: none in reach, -2: no certificate
+    double others_lb = 0.0;  ///< every triangle that is not a candidate was >= this far from x0
+    std::int32_t count = -1;  ///< candidates stored (0: none in reach), -1: no certificate
   };
-  std::vector<Entry> entries;  ///< point-major: entries[i * objects + o]
-  void resize(std::size_t points, std::size_t objects) {
+  std::vector<Entry> entries;        ///< point-major: entries[i * objects + o]
+  std::vector<std::uint32_t> slots;  ///< entries.size() * candidates(): kept-triangle slots
+  std::vector<float> lower;          ///< their distance from x0, rounded down (ascending)
+  std::size_t candidates() const { return k_; }
+  void resize(std::size_t points, std::size_t objects,
+              std::size_t candidates = kDefaultCandidates) {
+    k_ = candidates < 1 ? 1 : (candidates > kMaxCandidates ? kMaxCandidates : candidates);
     entries.assign(points * objects, Entry{});
+    slots.assign(entries.size() * k_, 0u);
+    lower.assign(entries.size() * k_, 0.0f);
   }
+  /// Bytes per (point, object) pair.
+  std::size_t bytes_per_entry() const {
+    return sizeof(Entry) + k_ * (sizeof(std::uint32_t) + sizeof(float));
+  }
+
+ private:
+  std::size_t k_ = 1;
 };
 
 /// Static collider triangles in world space, grouped by object, with a BVH per object.
@@ -165,10 +191,17 @@ struct ColliderSet {
   /// the object other than the one returned (of all of them when none is returned).
   ColliderHit query_object(std::size_t o, const double p[3], double radius_sq, QueryMethod method,
                            std::int32_t hint, double* others_lb = nullptr) const;
-  /// query_object() through a certificate: reuses e's answer when provably unchanged,
-  /// otherwise searches and renews e. `certified` tells which.
+  /// query_object() through a certificate: reuses entry `e` of `cache` when its answer is
+  /// provably unchanged, otherwise searches and renews it. `certified` tells which.
   ColliderHit query_cached(std::size_t o, const double p[3], double radius_sq, QueryMethod method,
-                           ContactCache::Entry& e, bool& certified) const;
+                           ContactCache& cache, std::size_t e, bool& certified) const;
+  /// The K nearest kept triangles of object o within radius (ties: lowest input index), as
+  /// slots in `slots` and distances^2 in `d2`, ascending; returns how many (<= k). `others_lb`
+  /// receives a lower bound of the distance of every other kept triangle of the object.
+  /// `seed`: slots to test first (a previous list), only to start with a small bound.
+  std::size_t query_nearest(std::size_t o, const double p[3], double radius_sq, QueryMethod method,
+                            std::size_t k, std::span<const std::uint32_t> seed,
+                            std::uint32_t* slots, double* d2, double& others_lb) const;
 
  private:
   struct Object {
@@ -190,9 +223,10 @@ struct ColliderSet {
 
   std::vector<Object> objects_;
   bool built_ = false;
-  // Kept triangles: A, AB = B - A, AC = C - A, unit normal; one block of 4 slots per BVH leaf,
-  // each block a small structure of arrays (12 components x 4 slots, 384 bytes).
+  // Kept triangles: A, AB = B - A, AC = C - A, unit normal (12 doubles per slot); one block of
+  // 4 slots per BVH leaf (384 bytes).
   std::vector<double> tri_;
+  detail::Tri tri_at(std::uint32_t slot) const;
   std::vector<std::int32_t> orig_;     ///< per slot: input triangle index in its object, -1 unused
   std::size_t kept_total_ = 0;
   std::uint32_t collapse(std::uint32_t binary);
