@@ -580,7 +580,14 @@ namespace {
 // A float that is <= v (the stored lower bounds of the candidates' distances).
 float round_down(double v) {
   auto f = static_cast<float>(v);
-  if (static_cast<double>(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  if (static_cast<double>(f) > v) {  // one float step down (f is finite here: v is)
+    std::uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    if (f > 0.0f) --bits;
+    else if (f < 0.0f) ++bits;
+    else bits = 0x80000001u;  // the negative float nearest 0
+    std::memcpy(&f, &bits, sizeof f);
+  }
   return f;
 }
 
@@ -700,6 +707,11 @@ std::size_t ColliderSet::query_nearest(std::size_t o, const double p[3], double 
 ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double radius_sq,
                                       QueryMethod method, ContactCache& cache, std::size_t ei,
                                       bool& certified) const {
+  // A list that survived fewer certified calls than this did not pay for its K-nearest search
+  // (measured: it costs 3-5 plain searches); after this many 1-nearest searches (times
+  // 2^backoff), try again.
+  constexpr std::uint16_t kMinAge = 4;
+  constexpr std::uint8_t kRetry = 8;
   const Object& ob = objects_[o];
   certified = false;
   ContactCache::Entry& e = cache.entries[ei];
@@ -709,21 +721,29 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
   // Rounding of the computed distances, far below any useful gap.
   const double m =
       1e-10 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
-  const auto make_hit = [&](std::uint32_t slot, double d2, double s) {
-    const double* b = &tri_[12 * slot];
+  // Candidate c's triangle: the entry's copy for the first one, else the collider's.
+  const auto tri_of = [&](std::int32_t c) { return c == 0 ? e.tri : &tri_[12 * std::size_t{cs[c]}]; };
+  const auto index_of = [&](std::int32_t c) { return c == 0 ? e.tri_index : orig_[cs[c]]; };
+  const auto eval = [&](std::int32_t c, double& s) {
+    detail::Tri t;
+    std::memcpy(&t, tri_of(c), sizeof t);
+    double v, w;
+    TriangleRegion region;
+    return detail::closest_sq(p, t, s, v, w, region);
+  };
+  const auto make_hit = [&](std::int32_t c, double d2, double s) {
+    const double* b = tri_of(c);
     ColliderHit hit;
     hit.object = static_cast<std::int32_t>(o);
-    hit.triangle = orig_[slot];
+    hit.triangle = index_of(c);
     hit.distance_sq = d2;
     hit.signed_distance = detail::signed_distance(d2, s);
     hit.normal = Eigen::Vector3d(b[9], b[10], b[11]);
     return hit;
   };
-  const auto eval = [&](std::uint32_t slot, double& s) {
-    const detail::Tri t = tri_at(slot);
-    double v, w;
-    TriangleRegion region;
-    return detail::closest_sq(p, t, s, v, w, region);
+  const auto copy_first = [&] {
+    std::memcpy(e.tri, &tri_[12 * std::size_t{cs[0]}], sizeof e.tri);
+    e.tri_index = orig_[cs[0]];
   };
   const double reach = std::sqrt(radius_sq);
   if (e.count >= 0) {
@@ -732,31 +752,33 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
     // Every candidate is now >= lower - moved away, every other triangle >= others_lb - moved.
     // Evaluate the candidates nearest first until the rest cannot win or tie (or reach).
     double best = std::numeric_limits<double>::infinity(), best_s = 0.0, stop = reach;
-    std::int32_t best_tri = std::numeric_limits<std::int32_t>::max();
-    std::uint32_t best_slot = 0;
-    bool found = false;
+    std::int32_t best_tri = std::numeric_limits<std::int32_t>::max(), best_c = -1;
     double dist[kMaxCandidates];  // distances of the evaluated candidates
     std::int32_t evaluated = 0;
     for (; evaluated < e.count; ++evaluated) {
       const std::int32_t c = evaluated;
       if (static_cast<double>(cl[c]) - moved - m > stop) break;
       double s;
-      const double d2 = eval(cs[c], s);
+      const double d2 = eval(c, s);
       dist[c] = std::sqrt(d2);
-      const std::int32_t idx = orig_[cs[c]];
+      const std::int32_t idx = index_of(c);
       if (d2 <= radius_sq && better(d2, idx, best, best_tri)) {
-        best = d2, best_tri = idx, best_slot = cs[c], best_s = s, found = true;
+        best = d2, best_tri = idx, best_c = c, best_s = s;
         stop = dist[c];
       }
     }
     if (stop + moved + m < e.others_lb) {
       certified = true;
-      if (moved > 0.0) {
+      const ColliderHit hit = best_c >= 0 ? make_hit(best_c, best, best_s) : ColliderHit{};
+      if (e.age < kMinAge) ++e.age;
+      if (evaluated > 1 && moved > 0.0) {
         // Move the certificate here: the same facts, measured from p. The evaluated candidates
         // get their distances now (so the next call evaluates only the near-ties), the others
-        // and L lose what the point moved (and a rounding margin). Kept ascending.
+        // and L lose what the point moved (and a rounding margin). Kept ascending. Only when
+        // more than the first candidate had to be evaluated: a point at rest writes nothing.
         e.x0[0] = p[0], e.x0[1] = p[1], e.x0[2] = p[2];
         e.others_lb -= moved + m;
+        const std::uint32_t first = e.count > 0 ? cs[0] : 0;
         for (std::int32_t c = 0; c < e.count; ++c) {
           const float lo = round_down(c < evaluated ? dist[c] - m
                                                     : static_cast<double>(cl[c]) - moved - m);
@@ -765,20 +787,31 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
           for (; j > 0 && cl[j - 1] > lo; --j) cl[j] = cl[j - 1], cs[j] = cs[j - 1];
           cl[j] = lo, cs[j] = sl;
         }
+        if (e.count > 0 && cs[0] != first) copy_first();
       }
-      return found ? make_hit(best_slot, best, best_s) : ColliderHit{};
+      return hit;
     }
   }
+  // A search. K-nearest (a list) unless lists die young here (see kMinAge, kRetry).
+  // (lean == 0: the last search made a list; lean > 0: 1-nearest searches since.)
+  // A list that died young makes the wait before the next one twice as long (up to 16x).
+  if (k > 1 && e.count >= 0 && e.lean == 0)
+    e.backoff = e.age >= kMinAge ? 0 : static_cast<std::uint8_t>(std::min(e.backoff + 1, 4));
+  const bool list =
+      k > 1 && (e.count < 0 || e.age >= kMinAge || e.lean >= (kRetry << e.backoff));
+  e.lean = list ? 0 : static_cast<std::uint8_t>(std::min(e.lean + 1, 255));
+  e.age = 0;
   e.x0[0] = p[0], e.x0[1] = p[1], e.x0[2] = p[2];
-  if (k == 1) {  // the single-triangle certificate (the reference): a 1-nearest search
+  if (!list) {  // 1-nearest (the single-triangle certificate)
     double lb = 0.0;
     const ColliderHit hit =
-        query_object(o, p, radius_sq, method, e.count == 1 ? orig_[cs[0]] : -1, &lb);
+        query_object(o, p, radius_sq, method, e.count >= 1 ? e.tri_index : -1, &lb);
     e.others_lb = lb;
     e.count = hit.valid() ? 1 : 0;
     if (hit.valid()) {
       cs[0] = static_cast<std::uint32_t>(ob.input_to_kept[static_cast<std::size_t>(hit.triangle)]);
       cl[0] = round_down(std::sqrt(hit.distance_sq) - m);
+      copy_first();
     }
     return hit;
   }
@@ -793,9 +826,10 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
   e.count = static_cast<std::int32_t>(n);
   for (std::size_t c = 0; c < n; ++c) cs[c] = ns[c], cl[c] = round_down(std::sqrt(nd[c]) - m);
   if (n == 0) return ColliderHit{};
+  copy_first();
   double s;
-  const double d2 = eval(ns[0], s);
-  return make_hit(ns[0], d2, s);
+  const double d2 = eval(0, s);
+  return make_hit(0, d2, s);
 }
 
 namespace {

@@ -84,14 +84,25 @@ struct PenaltyStats {
 /// the point has moved d from where the list was made, only the candidates are evaluated
 /// (nearest first, stopping when the rest cannot win); if the best is closer than L - d it is
 /// the global answer, bit for bit. candidates = 1: the single-triangle certificate of earlier
-/// versions (the closest triangle and a 1-nearest search), kept as a reference.
+/// versions (the closest triangle and a 1-nearest search), kept as a reference. With K >= 2 a
+/// point whose list did not survive 4 calls gets 1-nearest searches (one candidate) instead,
+/// until such a certificate survives 4 calls or 8 of them were made (16, 32 .. 128 when lists
+/// keep dying young): fast points then cost about what the plain search costs instead of the
+/// dearer K-nearest one.
 struct ContactCache {
   static constexpr std::size_t kDefaultCandidates = 8;
   static constexpr std::size_t kMaxCandidates = 32;  ///< resize() clamps to 1 .. this
   struct Entry {
     double x0[3] = {0.0, 0.0, 0.0};  ///< where the certificate was made
     double others_lb = 0.0;  ///< every triangle that is not a candidate was >= this far from x0
-    std::int32_t count = -1;  ///< candidates stored (0: none in reach), -1: no certificate
+    /// A copy of the first candidate's triangle (A, B - A, C - A, unit normal: the collider's
+    /// own doubles), so that a point at rest reads nothing but its entry.
+    double tri[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    std::int32_t count = -1;      ///< candidates stored (0: none in reach), -1: no certificate
+    std::int32_t tri_index = -1;  ///< the first candidate's input triangle index
+    std::uint16_t age = 0;   ///< certified calls since the last search
+    std::uint8_t lean = 0;   ///< > 0: the last searches were 1-nearest (lists died young)
+    std::uint8_t backoff = 0;  ///< lists died young this many times in a row (max 4)
   };
   std::vector<Entry> entries;        ///< point-major: entries[i * objects + o]
   std::vector<std::uint32_t> slots;  ///< entries.size() * candidates(): kept-triangle slots
