@@ -610,13 +610,15 @@ std::size_t ColliderSet::query_nearest(std::size_t o, const double p[3], double 
   double other_d2 = std::numeric_limits<double>::infinity();
   float pruned_f = std::numeric_limits<float>::infinity();
   double margin = 0.0;
+  std::uint64_t in_list = 0;  // bit (slot mod 64) set for every slot ever put in the list
 
   const auto test = [&](std::uint32_t slot) {
 #ifdef CLOTHSIM_COLLISION_COUNTERS
     ++g_tri_tests;
 #endif
-    for (std::size_t j = 0; j < n; ++j)
-      if (slots[j] == slot) return;  // a seed, met again in the tree
+    if ((in_list >> (slot & 63u)) & 1u)  // perhaps in the list already (a seed, met again)
+      for (std::size_t j = 0; j < n; ++j)
+        if (slots[j] == slot) return;
     const detail::Tri t = tri_at(slot);
     double s, v, w;
     TriangleRegion region;
@@ -631,6 +633,7 @@ std::size_t ColliderSet::query_nearest(std::size_t o, const double p[3], double 
     for (; j > 0 && better(d2, idx, d2s[j - 1], idxs[j - 1]); --j)
       d2s[j] = d2s[j - 1], idxs[j] = idxs[j - 1], slots[j] = slots[j - 1];
     d2s[j] = d2, idxs[j] = idx, slots[j] = slot;
+    in_list |= std::uint64_t{1} << (slot & 63u);  // never cleared: a filter, not a set
   };
   // Nothing farther than this can enter the list or lower the bound of the rest.
   const auto bound_sq = [&] { return std::min(radius_sq, other_d2); };
