@@ -79,7 +79,7 @@ struct PenaltyStats {
 /// while it provably gives the same answer (a certificate). Size it once with
 /// resize(points, objects, candidates) (allocates); then calls never allocate.
 ///
-/// candidates = K >= 2 (the default, 8): a search collects the K nearest triangles within
+/// candidates = K >= 2 (the default, 16): a search collects the K nearest triangles within
 /// reach (a Verlet list) and L, a lower bound of the distance of every other triangle. While
 /// the point has moved d from where the list was made, only the candidates are evaluated
 /// (nearest first, stopping when the rest cannot win); if the best is closer than L - d it is
@@ -90,7 +90,7 @@ struct PenaltyStats {
 /// keep dying young): fast points then cost about what the plain search costs instead of the
 /// dearer K-nearest one.
 struct ContactCache {
-  static constexpr std::size_t kDefaultCandidates = 8;
+  static constexpr std::size_t kDefaultCandidates = 16;
   static constexpr std::size_t kMaxCandidates = 32;  ///< resize() clamps to 1 .. this
   struct Entry {
     double x0[3] = {0.0, 0.0, 0.0};  ///< where the certificate was made
