@@ -145,7 +145,7 @@ void BM_Moving(benchmark::State& state) {
 void MovingArgs(benchmark::internal::Benchmark* b) {
   for (int level = 3; level <= 8; ++level)
     for (int step : {1, 200, 1000})
-      for (int k : {0, 1, 8, 16}) b->Args({level, step, k});
+      for (int k : {0, 1, 8, 16, 32}) b->Args({level, step, k});
 }
 void BM_BvhHintsShuffled(benchmark::State& s) {  // no memory coherence between points
   run(s, clothsim::QueryMethod::Bvh, true, 4096, 1.0 - 1.5 * kEps, 1.0 + 1.5 * kEps, false);

@@ -713,7 +713,7 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
   // A list that survived fewer certified calls than this did not pay for its K-nearest search
   // (measured: it costs 3-5 plain searches); after this many 1-nearest searches (times
   // 2^backoff), try again.
-  constexpr std::uint16_t kMinAge = 4;
+  constexpr std::uint16_t kMinAge = 8;
   constexpr std::uint8_t kRetry = 8;
   const Object& ob = objects_[o];
   certified = false;
