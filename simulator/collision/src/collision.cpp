@@ -797,12 +797,12 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
   }
   // A search. K-nearest (a list) unless lists die young here (see kMinAge, kRetry).
   // (lean == 0: the last search made a list; lean > 0: 1-nearest searches since.)
-  // A list that died young makes the wait before the next one twice as long (up to 16x).
+  // A list that died young makes the wait before the next one twice as long (up to 128x).
   if (k > 1 && e.count >= 0 && e.lean == 0)
-    e.backoff = e.age >= kMinAge ? 0 : static_cast<std::uint8_t>(std::min(e.backoff + 1, 4));
+    e.backoff = e.age >= kMinAge ? 0 : static_cast<std::uint8_t>(std::min(e.backoff + 1, 7));
   const bool list =
       k > 1 && (e.count < 0 || e.age >= kMinAge || e.lean >= (kRetry << e.backoff));
-  e.lean = list ? 0 : static_cast<std::uint8_t>(std::min(e.lean + 1, 255));
+  e.lean = list ? 0 : static_cast<std::uint16_t>(std::min(e.lean + 1, 0xffff));
   e.age = 0;
   e.x0[0] = p[0], e.x0[1] = p[1], e.x0[2] = p[2];
   if (!list) {  // 1-nearest (the single-triangle certificate)

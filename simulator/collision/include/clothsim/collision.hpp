@@ -85,8 +85,8 @@ struct PenaltyStats {
 /// (nearest first, stopping when the rest cannot win); if the best is closer than L - d it is
 /// the global answer, bit for bit. candidates = 1: the single-triangle certificate of earlier
 /// versions (the closest triangle and a 1-nearest search), kept as a reference. With K >= 2 a
-/// point whose list did not survive 4 calls gets 1-nearest searches (one candidate) instead,
-/// until such a certificate survives 4 calls or 8 of them were made (16, 32 .. 128 when lists
+/// point whose list did not survive 8 calls gets 1-nearest searches (one candidate) instead,
+/// until such a certificate survives 8 calls or 8 of them were made (16, 32 .. 1024 when lists
 /// keep dying young): fast points then cost about what the plain search costs instead of the
 /// dearer K-nearest one.
 struct ContactCache {
@@ -100,9 +100,9 @@ struct ContactCache {
     double tri[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     std::int32_t count = -1;      ///< candidates stored (0: none in reach), -1: no certificate
     std::int32_t tri_index = -1;  ///< the first candidate's input triangle index
-    std::uint16_t age = 0;   ///< certified calls since the last search
-    std::uint8_t lean = 0;   ///< > 0: the last searches were 1-nearest (lists died young)
-    std::uint8_t backoff = 0;  ///< lists died young this many times in a row (max 4)
+    std::uint16_t age = 0;   ///< certified calls since the last search (counted up to 8)
+    std::uint16_t lean = 0;  ///< > 0: the last searches were 1-nearest (lists died young)
+    std::uint8_t backoff = 0;  ///< lists died young this many times in a row (max 7)
   };
   std::vector<Entry> entries;        ///< point-major: entries[i * objects + o]
   std::vector<std::uint32_t> slots;  ///< entries.size() * candidates(): kept-triangle slots
