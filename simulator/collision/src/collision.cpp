@@ -66,8 +66,8 @@ float round_up(double v) {
   return f;
 }
 
-// Triangle slots come in blocks of 4 (one leaf each); each slot holds its 12 doubles
-// contiguously (A, AB, AC, n: 96 bytes), so that one triangle test touches 2 cache lines.
+// Triangle slots come in blocks of 4 (one leaf each), component-major inside a block.
+// (Slot-major, 96 contiguous bytes per triangle, made the searches 4-7 % slower.)
 constexpr std::uint32_t kBlock = 4;
 
 // Total order for "closest": distance, then lowest input triangle index.
@@ -98,9 +98,10 @@ PointTriangle point_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
 
 inline detail::Tri ColliderSet::tri_at(std::uint32_t slot) const {
   static_assert(sizeof(detail::Tri) == 12 * sizeof(double));
-  detail::Tri t;
-  std::memcpy(&t, &tri_[12 * std::size_t{slot}], sizeof t);
-  return t;
+  const double* b = &tri_[12 * std::size_t{slot & ~(kBlock - 1)} + (slot & (kBlock - 1))];
+  return detail::Tri{b[0],          b[kBlock],      b[2 * kBlock],  b[3 * kBlock],
+                     b[4 * kBlock], b[5 * kBlock],  b[6 * kBlock],  b[7 * kBlock],
+                     b[8 * kBlock], b[9 * kBlock],  b[10 * kBlock], b[11 * kBlock]};
 }
 
 bool triangle_is_degenerate(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
@@ -234,7 +235,7 @@ void ColliderSet::build() {
         const Eigen::Vector3d n = unit_normal(ab, ac);
         const double comp[12] = {a.x(),  a.y(),  a.z(),  ab.x(), ab.y(), ab.z(),
                                  ac.x(), ac.y(), ac.z(), n.x(),  n.y(),  n.z()};
-        for (std::size_t k = 0; k < 12; ++k) tri_[12 * (slot0 + j) + k] = comp[k];
+        for (std::size_t k = 0; k < 12; ++k) tri_[12 * slot0 + kBlock * k + j] = comp[k];
         ob.input_to_kept[t] = static_cast<std::int32_t>(slot0 + j);
         orig_[slot0 + j] = static_cast<std::int32_t>(t);
       }
@@ -537,8 +538,8 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
   hit.triangle = best_tri;
   hit.distance_sq = best;
   hit.signed_distance = detail::signed_distance(best, best_s);
-  const double* b = &tri_[12 * best_slot];
-  hit.normal = Eigen::Vector3d(b[9], b[10], b[11]);
+  const detail::Tri bt = tri_at(best_slot);
+  hit.normal = Eigen::Vector3d(bt.nx, bt.ny, bt.nz);
   return hit;
 }
 
@@ -707,97 +708,116 @@ std::size_t ColliderSet::query_nearest(std::size_t o, const double p[3], double 
   return n;
 }
 
+namespace {
+// A list that survived fewer certified calls than this did not pay for its K-nearest search
+// (measured: it costs 3-5 plain searches); after kRetry 1-nearest searches (times
+// 2^backoff), a list is tried again.
+constexpr std::uint16_t kMinAge = 8;
+constexpr std::uint8_t kRetry = 8;
+// Objects with more triangles than this keep a copy of each entry's first candidate in the
+// cache (a small collider stays in cache; the copy would only add memory traffic).
+constexpr std::size_t kCopyAbove = 4096;
+}  // namespace
+
 ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double radius_sq,
                                       QueryMethod method, ContactCache& cache, std::size_t ei,
                                       bool& certified) const {
-  // A list that survived fewer certified calls than this did not pay for its K-nearest search
-  // (measured: it costs 3-5 plain searches); after this many 1-nearest searches (times
-  // 2^backoff), try again.
-  constexpr std::uint16_t kMinAge = 8;
-  constexpr std::uint8_t kRetry = 8;
-  const Object& ob = objects_[o];
+  ContactCache::Entry& e = cache.entries[ei];
   certified = false;
+  if (e.count < 0) return renew_cached(o, p, radius_sq, method, cache, ei);
+  const Object& ob = objects_[o];
+  std::uint32_t* cs = cache.slots.data() + ei * cache.candidates();
+  float* cl = cache.lower.data() + ei * cache.candidates();
+  const bool use_copy = ob.kept > kCopyAbove;
+  const double* first = cache.firsts.data() + 12 * ei;
+  // Rounding of the computed distances, far below any useful gap.
+  const double m =
+      1e-10 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
+  const double dx = p[0] - e.x0[0], dy = p[1] - e.x0[1], dz = p[2] - e.x0[2];
+  const double moved = std::sqrt(dx * dx + dy * dy + dz * dz);
+  // Every candidate is now >= lower - moved away, every other triangle >= others_lb - moved.
+  // Evaluate the candidates nearest first until the rest cannot win or tie (or reach).
+  double best = std::numeric_limits<double>::infinity(), best_s = 0.0, stop = std::sqrt(radius_sq);
+  double best_n[3] = {0.0, 0.0, 0.0};
+  std::int32_t best_tri = std::numeric_limits<std::int32_t>::max();
+  double dist[kMaxCandidates];  // distances of the evaluated candidates
+  std::int32_t evaluated = 0;
+  for (; evaluated < e.count; ++evaluated) {
+    const std::int32_t c = evaluated;
+    if (static_cast<double>(cl[c]) - moved - m > stop) break;
+    detail::Tri t;
+    if (c == 0 && use_copy) std::memcpy(&t, first, sizeof t);
+    else t = tri_at(cs[c]);
+    double s, v, w;
+    TriangleRegion region;
+    const double d2 = detail::closest_sq(p, t, s, v, w, region);
+    dist[c] = std::sqrt(d2);
+    const std::int32_t idx = c == 0 ? e.tri_index : orig_[cs[c]];
+    if (d2 <= radius_sq && better(d2, idx, best, best_tri)) {
+      best = d2, best_tri = idx, best_s = s;
+      best_n[0] = t.nx, best_n[1] = t.ny, best_n[2] = t.nz;
+      stop = dist[c];
+    }
+  }
+  if (!(stop + moved + m < e.others_lb)) return renew_cached(o, p, radius_sq, method, cache, ei);
+  certified = true;
+  ColliderHit hit;
+  if (best_tri != std::numeric_limits<std::int32_t>::max()) {
+    hit.object = static_cast<std::int32_t>(o);
+    hit.triangle = best_tri;
+    hit.distance_sq = best;
+    hit.signed_distance = detail::signed_distance(best, best_s);
+    hit.normal = Eigen::Vector3d(best_n[0], best_n[1], best_n[2]);
+  }
+  if (e.age < kMinAge) ++e.age;
+  if (evaluated > 1 && moved > 0.0) {
+    // Move the certificate here: the same facts, measured from p. The evaluated candidates
+    // get their distances now (so the next call evaluates only the near-ties), the others
+    // and L lose what the point moved (and a rounding margin). Kept ascending. Only when
+    // more than the first candidate had to be evaluated: a point at rest writes nothing.
+    e.x0[0] = p[0], e.x0[1] = p[1], e.x0[2] = p[2];
+    e.others_lb -= moved + m;
+    const std::uint32_t first_slot = e.count > 0 ? cs[0] : 0;
+    for (std::int32_t c = 0; c < e.count; ++c) {
+      const float lo = round_down(c < evaluated ? dist[c] - m
+                                                : static_cast<double>(cl[c]) - moved - m);
+      const std::uint32_t sl = cs[c];
+      std::int32_t j = c;
+      for (; j > 0 && cl[j - 1] > lo; --j) cl[j] = cl[j - 1], cs[j] = cs[j - 1];
+      cl[j] = lo, cs[j] = sl;
+    }
+    if (e.count > 0 && cs[0] != first_slot) {
+      e.tri_index = orig_[cs[0]];
+      if (use_copy) {
+        const detail::Tri t = tri_at(cs[0]);
+        std::memcpy(cache.firsts.data() + 12 * ei, &t, sizeof t);
+      }
+    }
+  }
+  return hit;
+}
+
+ColliderHit ColliderSet::renew_cached(std::size_t o, const double p[3], double radius_sq,
+                                      QueryMethod method, ContactCache& cache,
+                                      std::size_t ei) const {
+  const Object& ob = objects_[o];
   ContactCache::Entry& e = cache.entries[ei];
   const std::size_t k = std::min(cache.candidates(), kMaxCandidates);
   std::uint32_t* cs = cache.slots.data() + ei * cache.candidates();
   float* cl = cache.lower.data() + ei * cache.candidates();
-  // Rounding of the computed distances, far below any useful gap.
+  const bool use_copy = ob.kept > kCopyAbove;
   const double m =
       1e-10 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
-  // Candidate c's triangle: the entry's copy for the first one, else the collider's.
-  const auto tri_of = [&](std::int32_t c) { return c == 0 ? e.tri : &tri_[12 * std::size_t{cs[c]}]; };
-  const auto index_of = [&](std::int32_t c) { return c == 0 ? e.tri_index : orig_[cs[c]]; };
-  const auto eval = [&](std::int32_t c, double& s) {
-    detail::Tri t;
-    std::memcpy(&t, tri_of(c), sizeof t);
-    double v, w;
-    TriangleRegion region;
-    return detail::closest_sq(p, t, s, v, w, region);
-  };
-  const auto make_hit = [&](std::int32_t c, double d2, double s) {
-    const double* b = tri_of(c);
-    ColliderHit hit;
-    hit.object = static_cast<std::int32_t>(o);
-    hit.triangle = index_of(c);
-    hit.distance_sq = d2;
-    hit.signed_distance = detail::signed_distance(d2, s);
-    hit.normal = Eigen::Vector3d(b[9], b[10], b[11]);
-    return hit;
-  };
-  const auto copy_first = [&] {
-    std::memcpy(e.tri, &tri_[12 * std::size_t{cs[0]}], sizeof e.tri);
+  const auto set_first = [&] {
     e.tri_index = orig_[cs[0]];
+    if (use_copy) {
+      const detail::Tri t = tri_at(cs[0]);
+      std::memcpy(cache.firsts.data() + 12 * ei, &t, sizeof t);
+    }
   };
-  const double reach = std::sqrt(radius_sq);
-  if (e.count >= 0) {
-    const double dx = p[0] - e.x0[0], dy = p[1] - e.x0[1], dz = p[2] - e.x0[2];
-    const double moved = std::sqrt(dx * dx + dy * dy + dz * dz);
-    // Every candidate is now >= lower - moved away, every other triangle >= others_lb - moved.
-    // Evaluate the candidates nearest first until the rest cannot win or tie (or reach).
-    double best = std::numeric_limits<double>::infinity(), best_s = 0.0, stop = reach;
-    std::int32_t best_tri = std::numeric_limits<std::int32_t>::max(), best_c = -1;
-    double dist[kMaxCandidates];  // distances of the evaluated candidates
-    std::int32_t evaluated = 0;
-    for (; evaluated < e.count; ++evaluated) {
-      const std::int32_t c = evaluated;
-      if (static_cast<double>(cl[c]) - moved - m > stop) break;
-      double s;
-      const double d2 = eval(c, s);
-      dist[c] = std::sqrt(d2);
-      const std::int32_t idx = index_of(c);
-      if (d2 <= radius_sq && better(d2, idx, best, best_tri)) {
-        best = d2, best_tri = idx, best_c = c, best_s = s;
-        stop = dist[c];
-      }
-    }
-    if (stop + moved + m < e.others_lb) {
-      certified = true;
-      const ColliderHit hit = best_c >= 0 ? make_hit(best_c, best, best_s) : ColliderHit{};
-      if (e.age < kMinAge) ++e.age;
-      if (evaluated > 1 && moved > 0.0) {
-        // Move the certificate here: the same facts, measured from p. The evaluated candidates
-        // get their distances now (so the next call evaluates only the near-ties), the others
-        // and L lose what the point moved (and a rounding margin). Kept ascending. Only when
-        // more than the first candidate had to be evaluated: a point at rest writes nothing.
-        e.x0[0] = p[0], e.x0[1] = p[1], e.x0[2] = p[2];
-        e.others_lb -= moved + m;
-        const std::uint32_t first = e.count > 0 ? cs[0] : 0;
-        for (std::int32_t c = 0; c < e.count; ++c) {
-          const float lo = round_down(c < evaluated ? dist[c] - m
-                                                    : static_cast<double>(cl[c]) - moved - m);
-          const std::uint32_t sl = cs[c];
-          std::int32_t j = c;
-          for (; j > 0 && cl[j - 1] > lo; --j) cl[j] = cl[j - 1], cs[j] = cs[j - 1];
-          cl[j] = lo, cs[j] = sl;
-        }
-        if (e.count > 0 && cs[0] != first) copy_first();
-      }
-      return hit;
-    }
-  }
-  // A search. K-nearest (a list) unless lists die young here (see kMinAge, kRetry).
+  // A search. K-nearest (a list) unless lists die young here (see kMinAge, kRetry). A list
+  // that died young makes the wait before the next one twice as long (up to 128x).
   // (lean == 0: the last search made a list; lean > 0: 1-nearest searches since.)
-  // A list that died young makes the wait before the next one twice as long (up to 128x).
   if (k > 1 && e.count >= 0 && e.lean == 0)
     e.backoff = e.age >= kMinAge ? 0 : static_cast<std::uint8_t>(std::min(e.backoff + 1, 7));
   const bool list =
@@ -814,7 +834,7 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
     if (hit.valid()) {
       cs[0] = static_cast<std::uint32_t>(ob.input_to_kept[static_cast<std::size_t>(hit.triangle)]);
       cl[0] = round_down(std::sqrt(hit.distance_sq) - m);
-      copy_first();
+      set_first();
     }
     return hit;
   }
@@ -829,10 +849,18 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
   e.count = static_cast<std::int32_t>(n);
   for (std::size_t c = 0; c < n; ++c) cs[c] = ns[c], cl[c] = round_down(std::sqrt(nd[c]) - m);
   if (n == 0) return ColliderHit{};
-  copy_first();
-  double s;
-  const double d2 = eval(0, s);
-  return make_hit(0, d2, s);
+  set_first();
+  const detail::Tri t = tri_at(ns[0]);
+  double s, v, w;
+  TriangleRegion region;
+  const double d2 = detail::closest_sq(p, t, s, v, w, region);
+  ColliderHit hit;
+  hit.object = static_cast<std::int32_t>(o);
+  hit.triangle = orig_[ns[0]];
+  hit.distance_sq = d2;
+  hit.signed_distance = detail::signed_distance(d2, s);
+  hit.normal = Eigen::Vector3d(t.nx, t.ny, t.nz);
+  return hit;
 }
 
 namespace {
@@ -851,7 +879,8 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Matrix3Xd& x, double e
     throw std::invalid_argument("accumulate_penalty(): hints need points * objects entries");
   if (cache && (cache->entries.size() != n * no ||
                 cache->slots.size() != n * no * cache->candidates() ||
-                cache->lower.size() != n * no * cache->candidates()))
+                cache->lower.size() != n * no * cache->candidates() ||
+                cache->firsts.size() != n * no * 12))
     throw std::invalid_argument("accumulate_penalty(): ContactCache needs resize(points, objects)");
   stats = PenaltyStats{};
   if (no == 0 || set.triangle_count() == 0) return;

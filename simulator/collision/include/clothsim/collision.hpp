@@ -95,9 +95,6 @@ struct ContactCache {
   struct Entry {
     double x0[3] = {0.0, 0.0, 0.0};  ///< where the certificate was made
     double others_lb = 0.0;  ///< every triangle that is not a candidate was >= this far from x0
-    /// A copy of the first candidate's triangle (A, B - A, C - A, unit normal: the collider's
-    /// own doubles), so that a point at rest reads nothing but its entry.
-    double tri[12] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     std::int32_t count = -1;      ///< candidates stored (0: none in reach), -1: no certificate
     std::int32_t tri_index = -1;  ///< the first candidate's input triangle index
     std::uint16_t age = 0;   ///< certified calls since the last search (counted up to 8)
@@ -107,6 +104,10 @@ struct ContactCache {
   std::vector<Entry> entries;        ///< point-major: entries[i * objects + o]
   std::vector<std::uint32_t> slots;  ///< entries.size() * candidates(): kept-triangle slots
   std::vector<float> lower;          ///< their distance from x0, rounded down (ascending)
+  /// entries.size() * 12: a copy of each entry's first candidate (A, B - A, C - A, unit normal:
+  /// the collider's own doubles), used for objects of more than 4096 triangles, so that a point
+  /// at rest reads its entry and nothing of a collider that does not stay in cache.
+  std::vector<double> firsts;
   std::size_t candidates() const { return k_; }
   void resize(std::size_t points, std::size_t objects,
               std::size_t candidates = kDefaultCandidates) {
@@ -114,10 +115,11 @@ struct ContactCache {
     entries.assign(points * objects, Entry{});
     slots.assign(entries.size() * k_, 0u);
     lower.assign(entries.size() * k_, 0.0f);
+    firsts.assign(entries.size() * 12, 0.0);
   }
   /// Bytes per (point, object) pair.
   std::size_t bytes_per_entry() const {
-    return sizeof(Entry) + k_ * (sizeof(std::uint32_t) + sizeof(float));
+    return sizeof(Entry) + 12 * sizeof(double) + k_ * (sizeof(std::uint32_t) + sizeof(float));
   }
 
  private:
@@ -234,13 +236,17 @@ struct ColliderSet {
 
   std::vector<Object> objects_;
   bool built_ = false;
-  // Kept triangles: A, AB = B - A, AC = C - A, unit normal (12 doubles per slot); one block of
-  // 4 slots per BVH leaf (384 bytes).
+  // Kept triangles: A, AB = B - A, AC = C - A, unit normal; one block of 4 slots per BVH leaf,
+  // each block a small structure of arrays (12 components x 4 slots, 384 bytes).
   std::vector<double> tri_;
   detail::Tri tri_at(std::uint32_t slot) const;
   std::vector<std::int32_t> orig_;     ///< per slot: input triangle index in its object, -1 unused
   std::size_t kept_total_ = 0;
   std::uint32_t collapse(std::uint32_t binary);
+  /// query_cached()'s search and renewal of entry ei (kept out of its fast path).
+  [[gnu::noinline]] ColliderHit renew_cached(std::size_t o, const double p[3], double radius_sq,
+                                             QueryMethod method, ContactCache& cache,
+                                             std::size_t ei) const;
   std::vector<Node> nodes_;    ///< the binary tree, only during build()
   std::vector<Node4> nodes4_;  ///< what queries traverse
   Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), hi_ = Eigen::Vector3d::Zero();
