@@ -56,6 +56,53 @@ double timed(const std::function<void()>& fn) {
   return min_seconds(fn, inner_for(once));
 }
 
+// The cloth turning rigidly about the horizontal x axis through the unit sphere's centre, so
+// that its masses keep their distance to the sphere and slide across its triangles, `step`
+// metres per call on average over the masses within reach (|x| <= 1 + 2 eps): monotonic motion,
+// which a back-and-forth between two configurations would not be (a cache would never expire).
+// `warm` untimed calls first (the lists and certificates reach their steady age), then the
+// minimum over g_reps repetitions of `inner` calls of the query alone (the rotation untimed).
+// cache_k: 0 = BVH + hints, K >= 1 = a ContactCache with K candidates. Returns s per call and
+// the share of certified (point, object) pairs.
+std::pair<double, double> sliding_seconds(const ColliderSet& set, const Eigen::Matrix3Xd& x0, double eps,
+                                          double k_rep, double step, std::size_t cache_k, int warm, int inner) {
+  Eigen::Matrix3Xd x = x0, f = Eigen::Matrix3Xd::Zero(3, x0.cols());
+  double rho = 0.0;
+  int near = 0;
+  for (Eigen::Index i = 0; i < x.cols(); ++i)
+    if (x.col(i).norm() <= 1.0 + 2.0 * eps) rho += x.col(i).tail<2>().norm(), ++near;
+  const double angle = step / (near > 0 ? rho / near : 1.0);
+  const double c = std::cos(angle), sn = std::sin(angle);
+  std::vector<std::int32_t> hints(static_cast<std::size_t>(x.cols()) * set.object_count(), -1);
+  ContactCache cache;
+  cache.resize(static_cast<std::size_t>(x.cols()), set.object_count(), cache_k);
+  PenaltyStats st;
+  std::size_t certified = 0, pairs = 0;
+  const auto call = [&] {
+    for (Eigen::Index i = 0; i < x.cols(); ++i) {
+      const double y = x(1, i), z = x(2, i);
+      x(1, i) = c * y - sn * z;
+      x(2, i) = sn * y + c * z;
+    }
+    const auto t0 = Clock::now();
+    if (cache_k > 0) accumulate_penalty(set, x, eps, k_rep, f, st, cache);
+    else accumulate_penalty(set, x, eps, k_rep, f, st, hints);
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+  };
+  for (int k = 0; k < warm; ++k) call();
+  double best = 1e300;
+  for (int r = 0; r < g_reps; ++r) {
+    double sum = 0.0;
+    for (int k = 0; k < inner; ++k) {
+      sum += call();
+      certified += st.certified;
+      pairs += static_cast<std::size_t>(x.cols()) * set.object_count();
+    }
+    best = std::min(best, sum / inner);
+  }
+  return {best, static_cast<double>(certified) / static_cast<double>(pairs)};
+}
+
 struct Csv {
   std::ofstream out;
   explicit Csv(const std::string& path, const char* header) {
@@ -194,10 +241,10 @@ int main(int argc, char** argv) {
   // --- collision and the full step, per (N, T) ---------------------------------------------
   Csv csv_c(path("collision.csv"),
             "n,masses,triangles,bvh_bytes_per_triangle,bvh_ns_per_mass,cache_ns_per_mass,certified,"
-            "brute_ns_per_mass,brute_masses,step1_ms,step2_ms,identical");
-  std::printf("\ncollision (cloth 0.05 m over a unit icosphere, eps 0.1; moving 1 mm per call)  ns per mass  |  step ms\n");
-  std::printf("%5s %8s %8s %7s | %9s %9s %5s %10s %8s %8s | %8s %8s %5s\n", "N", "masses", "tris", "B/tri",
-              "bvh+hint", "cache", "cert", "brute", "ratio", "brute_n", "1 thr", "2 thr", "same");
+            "brute_ns_per_mass,brute_masses,step1_ms,step2_ms,identical,cache1_ns_per_mass");
+  std::printf("\ncollision (cloth 0.05 m over a unit icosphere, eps 0.1; sliding 1 mm per call)  ns per mass  |  step ms\n");
+  std::printf("%5s %8s %8s %7s | %9s %9s %5s %9s %10s %8s %8s | %8s %8s %5s\n", "N", "masses", "tris", "B/tri",
+              "bvh+hint", "cache", "cert", "cache K=1", "brute", "ratio", "brute_n", "1 thr", "2 thr", "same");
   for (int level = 3; level <= max_level; ++level) {
     const auto set = perf::sphere_collider(level);
     const double tris = static_cast<double>(set->triangle_count());
@@ -210,23 +257,14 @@ int main(int argc, char** argv) {
       PenaltyStats st;
       std::vector<std::int32_t> hints(m.mass_count(), -1);
       const double masses = static_cast<double>(m.mass_count());
-      // the search every call, from the previous answer (hints), the two configurations alternating
-      Eigen::Matrix3Xd xb = s.x;
-      xb.row(0).array() += 1e-3;  // 1 mm apart: cloth sliding at 0.1 m/s, dt 0.01
-      bool flip = false;
-      const double bvh = timed([&] {
-        accumulate_penalty(*set, (flip = !flip) ? xb : s.x, o.epsilon, o.k_rep, f, st, hints);
-      }) / masses;
-      // as the step does: the ContactCache (exact certificates), the same alternation
-      ContactCache cache;
-      cache.resize(m.mass_count(), set->object_count());
-      std::size_t certified = 0, queried = 0;
-      const double cached = timed([&] {
-        accumulate_penalty(*set, (flip = !flip) ? xb : s.x, o.epsilon, o.k_rep, f, st, cache);
-        certified += st.certified;
-        queried += m.mass_count();
-      }) / masses;
-      const double cert = static_cast<double>(certified) / static_cast<double>(queried);
+      // the search every call from the previous answer (hints), the ContactCache as the step uses
+      // it, and the single-triangle certificate of earlier versions (K = 1); sliding 1 mm per call
+      const int warm = n >= 256 ? 30 : 60;
+      const double bvh = sliding_seconds(*set, s.x, o.epsilon, o.k_rep, 1e-3, 0, warm, 3).first / masses;
+      const auto [cache_s, cert] = sliding_seconds(*set, s.x, o.epsilon, o.k_rep, 1e-3,
+                                                   ContactCache::kDefaultCandidates, warm, 3);
+      const double cached = cache_s / masses;
+      const double single = sliding_seconds(*set, s.x, o.epsilon, o.k_rep, 1e-3, 1, warm, 3).first / masses;
       // brute force on every k-th mass (the cost cap)
       const auto cap = static_cast<Eigen::Index>(std::max(1.0, std::min(masses, brute_pairs / tris)));
       const Eigen::Index stride = (s.x.cols() + cap - 1) / cap;
@@ -244,11 +282,42 @@ int main(int argc, char** argv) {
       const bool same = run_hash(m, 5, 1) == run_hash(m, 5, 2);
       all_identical = all_identical && same;
       const double bpt = static_cast<double>(set->bvh_bytes()) / tris;
-      std::printf("%5d %8zu %8.0f %7.0f | %9.1f %9.1f %4.0f%% %10.1f %8.0f %8ld | %8.3f %8.3f %5s\n", n,
-                  m.mass_count(), tris, bpt, bvh * 1e9, cached * 1e9, cert * 100, brute * 1e9, brute / bvh,
+      std::printf("%5d %8zu %8.0f %7.0f | %9.1f %9.1f %4.0f%% %9.1f %10.1f %8.0f %8ld | %8.3f %8.3f %5s\n", n,
+                  m.mass_count(), tris, bpt, bvh * 1e9, cached * 1e9, cert * 100, single * 1e9, brute * 1e9, brute / bvh,
                   static_cast<long>(xs.cols()), st1 * 1e3, st2 * 1e3, same ? "yes" : "NO");
       csv_c.row(n, m.mass_count(), tris, bpt, bvh * 1e9, cached * 1e9, cert, brute * 1e9, xs.cols(), st1 * 1e3,
-                st2 * 1e3, same ? 1 : 0);
+                st2 * 1e3, same ? 1 : 0, single * 1e9);
+    }
+  }
+
+  // --- collision per speed: the N x N cloth (N = 256 or --max-n) sliding over the sphere ----------
+  {
+    const int n = std::min(max_n, 256);
+    Csv csv_m(path("collision_speed.csv"),
+              "n,masses,triangles,step_m_per_call,hints_ns_per_mass,cache1_ns_per_mass,cache1_certified,"
+              "cache_ns_per_mass,cache_certified,candidates,cache_bytes_per_mass");
+    std::printf("\ncollision per speed (%d x %d cloth sliding over the sphere; ns per mass; K = %zu candidates)\n", n, n,
+                ContactCache::kDefaultCandidates);
+    std::printf("%8s %9s | %9s | %9s %5s | %9s %5s\n", "tris", "per call", "bvh+hint", "K=1", "cert", "cache", "cert");
+    for (int level = 3; level <= max_level; ++level) {
+      const auto set = perf::sphere_collider(level);
+      const Model m = perf::grid_model(n, set);
+      const auto& o = m.options;
+      const double masses = static_cast<double>(m.mass_count());
+      ContactCache probe;
+      probe.resize(1, 1);
+      for (const double step : {1e-6, 2e-4, 1e-3}) {
+        const int warm = quick ? 5 : 30;
+        const double h = sliding_seconds(*set, m.x0, o.epsilon, o.k_rep, step, 0, warm, 3).first / masses;
+        const auto [s1, c1] = sliding_seconds(*set, m.x0, o.epsilon, o.k_rep, step, 1, warm, 3);
+        const auto [sk, ck] =
+            sliding_seconds(*set, m.x0, o.epsilon, o.k_rep, step, ContactCache::kDefaultCandidates, warm, 3);
+        std::printf("%8zu %7.1f um | %9.1f | %9.1f %4.0f%% | %9.1f %4.0f%%\n", set->triangle_count(), step * 1e6,
+                    h * 1e9, s1 / masses * 1e9, c1 * 100, sk / masses * 1e9, ck * 100);
+        csv_m.row(n, m.mass_count(), set->triangle_count(), step, h * 1e9, s1 / masses * 1e9, c1,
+                  sk / masses * 1e9, ck, ContactCache::kDefaultCandidates,
+                  static_cast<double>(probe.bytes_per_entry() * set->object_count()));
+      }
     }
   }
 

@@ -2,6 +2,7 @@
 // same distances and bit-identical penalty forces, with and without hints.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -196,4 +197,130 @@ TEST(CollisionBvh, ContactCacheGivesTheSearchResultBitForBit) {
   Eigen::Matrix3Xd x = random_points(rng, 5), f = Eigen::Matrix3Xd::Zero(3, 5);
   PenaltyStats s;
   EXPECT_THROW(accumulate_penalty(set, x, 0.1, 1000.0, f, s, wrong), std::invalid_argument);
+}
+
+namespace {
+
+// Every (point, object) answer of query_cached() against brute force: same triangle (or none),
+// bit-identical distance^2 and signed distance. Returns the number of certified answers.
+std::size_t expect_cached_equals_brute(const ColliderSet& set, const Eigen::Matrix3Xd& x,
+                                       double reach, clothsim::ContactCache& cache,
+                                       const char* what) {
+  std::size_t certified = 0;
+  const std::size_t no = set.object_count();
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    const double p[3] = {x(0, i), x(1, i), x(2, i)};
+    for (std::size_t o = 0; o < no; ++o) {
+      bool cert = false;
+      const ColliderHit c = set.query_cached(o, p, reach * reach, QueryMethod::Bvh, cache,
+                                             static_cast<std::size_t>(i) * no + o, cert);
+      const ColliderHit b = set.query_object(o, p, reach * reach, QueryMethod::BruteForce, -1);
+      certified += cert ? 1 : 0;
+      EXPECT_EQ(c.triangle, b.triangle) << what << " point " << i << " object " << o;
+      EXPECT_TRUE(same_bits(c.distance_sq, b.distance_sq)) << what << " point " << i;
+      EXPECT_TRUE(same_bits(c.signed_distance, b.signed_distance)) << what << " point " << i;
+      if (c.triangle != b.triangle) return certified;  // one report is enough
+    }
+  }
+  return certified;
+}
+
+}  // namespace
+
+TEST(CollisionBvh, CandidateCacheEqualsBruteForceUnderMonotonicMotion) {
+  // Points drift steadily (each along its own direction, as sliding cloth: the candidate lists
+  // expire and are renewed), then jump, then drift again, for several list sizes K (1 is the
+  // single-triangle certificate). Every answer equals brute force; small drifts are certified.
+  std::mt19937_64 rng(2024);
+  for (const std::size_t k : {1u, 2u, 4u, 8u, 16u, 32u}) {
+    const ColliderSet set = random_scene(rng);
+    Eigen::Matrix3Xd x = random_points(rng, 300);
+    Eigen::Matrix3Xd vel(3, x.cols());
+    std::normal_distribution<double> g(0.0, 1.0);
+    for (Eigen::Index i = 0; i < x.cols(); ++i)
+      vel.col(i) = Vector3d(g(rng), g(rng), g(rng)).normalized();
+    clothsim::ContactCache cache;
+    cache.resize(static_cast<std::size_t>(x.cols()), set.object_count(), k);
+    ASSERT_EQ(cache.candidates(), k);
+    std::size_t certified = 0;
+    for (int round = 0; round < 40; ++round) {
+      const double step = round == 20 ? 0.3 : (round < 20 ? 2e-4 : 2e-3);  // a jump at 20
+      x += step * vel;
+      const std::size_t c = expect_cached_equals_brute(set, x, 0.2, cache, "drift");
+      if (round > 0 && round < 20) certified += c;
+      if (HasFailure()) return;
+    }
+    EXPECT_GT(certified, 19u * 300u * set.object_count() / 2) << "K = " << k;
+  }
+}
+
+TEST(CollisionBvh, CandidateCacheTiesAndReachOnAFlatGrid) {
+  // A flat grid: above vertices and edges several triangles are exactly equally far (ties go
+  // to the lowest index). Points slide along the grid lines and diagonals, and move up and
+  // down through the reach (2 eps) so that they leave and re-enter it.
+  ColliderSet set;
+  const auto fl = clothsim::meshes::floor_grid(16, 1.0, 0.0);
+  set.add_object("floor", fl.vertices, fl.indices);
+  set.build();
+  const double cell = 2.0 / 16;
+  Eigen::Matrix3Xd x(3, 0);
+  std::vector<Vector3d> starts, vel;
+  for (int i = 0; i < 12; ++i)
+    for (int h = 0; h < 4; ++h) {
+      const double y = std::array<double, 4>{0.0, 0.05, 0.199, 0.2}[static_cast<std::size_t>(h)];
+      starts.emplace_back(-0.5 + i * cell, y, -0.5 + (i % 3) * cell);  // on a vertex
+      vel.emplace_back(i % 2 ? 1.0 : 0.0, 0.0, i % 2 ? 0.0 : 1.0);  // along a grid line
+      starts.emplace_back(-0.5 + i * cell + 0.5 * cell, y, -0.5);  // on an edge
+      vel.emplace_back(Vector3d(1.0, 0.0, 1.0).normalized());  // along a diagonal
+    }
+  x.resize(3, static_cast<Eigen::Index>(starts.size()));
+  for (std::size_t k : {1u, 8u}) {
+    clothsim::ContactCache cache;
+    cache.resize(starts.size(), 1, k);
+    for (int round = 0; round < 120; ++round) {
+      // exact multiples of cell / 16 along the lines: points sit exactly on edges and vertices
+      const double t = round * cell / 16;
+      const double lift = 0.01 * (round % 40 < 20 ? round % 40 : 40 - round % 40);  // 0 .. 0.2
+      for (std::size_t i = 0; i < starts.size(); ++i)
+        x.col(static_cast<Eigen::Index>(i)) = starts[i] + t * vel[i] + Vector3d(0.0, lift, 0.0);
+      expect_cached_equals_brute(set, x, 0.2, cache, "grid");
+      if (HasFailure()) return;
+    }
+  }
+}
+
+TEST(CollisionBvh, CandidateCachePenaltyBitIdenticalWhileSliding) {
+  // accumulate_penalty() with the default ContactCache vs brute force on an icosphere, the
+  // points turning about an axis through its centre (monotonic, as in the benchmark).
+  ColliderSet set;
+  const auto s = clothsim::meshes::icosphere(3, 1.0);
+  set.add_object("sphere", s.vertices, s.indices);
+  set.build();
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::uniform_real_distribution<double> r(0.85, 1.15);
+  Eigen::Matrix3Xd x(3, 400);
+  for (Eigen::Index i = 0; i < x.cols(); ++i)
+    x.col(i) = Vector3d(g(rng), g(rng), g(rng)).normalized() * r(rng);
+  const Eigen::Matrix3d rot = Eigen::AngleAxisd(1e-3, Vector3d::UnitX()).toRotationMatrix();
+  clothsim::ContactCache cache;
+  cache.resize(static_cast<std::size_t>(x.cols()), 1);
+  EXPECT_EQ(cache.candidates(), clothsim::ContactCache::kDefaultCandidates);
+  std::size_t certified = 0, contacts = 0;
+  for (int round = 0; round < 60; ++round) {
+    x = rot * x;
+    Eigen::Matrix3Xd fb = Eigen::Matrix3Xd::Zero(3, x.cols()), fc = fb;
+    PenaltyStats sb, sc;
+    accumulate_penalty(set, x, 0.1, 1000.0, fb, sb, {}, QueryMethod::BruteForce);
+    accumulate_penalty(set, x, 0.1, 1000.0, fc, sc, cache);
+    ASSERT_EQ(std::memcmp(fb.data(), fc.data(), sizeof(double) * static_cast<std::size_t>(x.size())), 0)
+        << "round " << round;
+    ASSERT_EQ(sb.contacts, sc.contacts);
+    ASSERT_EQ(sb.tunnelled, sc.tunnelled);
+    ASSERT_TRUE(same_bits(sb.max_penetration, sc.max_penetration));
+    certified += sc.certified;
+    contacts += sb.contacts;
+  }
+  EXPECT_GT(contacts, 60u * 200u);
+  EXPECT_GT(certified, 60u * 400u / 2);  // most calls need no search
 }

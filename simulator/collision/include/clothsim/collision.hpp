@@ -26,6 +26,10 @@
 
 namespace clothsim {
 
+namespace detail {
+struct Tri;
+}
+
 /// Which feature of a triangle the closest point lies on.
 enum class TriangleRegion : std::uint8_t { Face, EdgeAB, EdgeBC, EdgeCA, VertexA, VertexB, VertexC };
 
@@ -72,19 +76,54 @@ struct PenaltyStats {
 };
 
 /// Per (point, object) memory between calls that lets accumulate_penalty() skip the search
-/// when a point has moved less than the gap between its closest triangle and every other one
-/// (a certificate: the answer is exactly the one the search would give). Size it once with
-/// resize(points, objects) (allocates); then calls never allocate.
+/// while it provably gives the same answer (a certificate). Size it once with
+/// resize(points, objects, candidates) (allocates); then calls never allocate.
+///
+/// candidates = K >= 2 (the default, 16): a search collects the K nearest triangles within
+/// reach (a Verlet list) and L, a lower bound of the distance of every other triangle. While
+/// the point has moved d from where the list was made, only the candidates are evaluated
+/// (nearest first, stopping when the rest cannot win); if the best is closer than L - d it is
+/// the global answer, bit for bit. candidates = 1: the single-triangle certificate of earlier
+/// versions (the closest triangle and a 1-nearest search), kept as a reference. With K >= 2 a
+/// point whose list did not survive 8 calls gets 1-nearest searches (one candidate) instead,
+/// until such a certificate survives 8 calls or 8 of them were made (16, 32 .. 1024 when lists
+/// keep dying young): fast points then cost about what the plain search costs instead of the
+/// dearer K-nearest one.
 struct ContactCache {
+  static constexpr std::size_t kDefaultCandidates = 16;
+  static constexpr std::size_t kMaxCandidates = 32;  ///< resize() clamps to 1 .. this
   struct Entry {
     double x0[3] = {0.0, 0.0, 0.0};  ///< where the certificate was made
-    double others_lb = 0.0;          ///< every other triangle was at least this far from x0
-    std::int32_t tri = -2;           ///< closest input triangle then, -1: none in reach, -2: no certificate
+    double others_lb = 0.0;  ///< every triangle that is not a candidate was >= this far from x0
+    std::int32_t count = -1;      ///< candidates stored (0: none in reach), -1: no certificate
+    std::int32_t tri_index = -1;  ///< the first candidate's input triangle index
+    std::uint16_t age = 0;   ///< certified calls since the last search (counted up to 8)
+    std::uint16_t lean = 0;  ///< > 0: the last searches were 1-nearest (lists died young)
+    std::uint8_t backoff = 0;  ///< lists died young this many times in a row (max 7)
   };
-  std::vector<Entry> entries;  ///< point-major: entries[i * objects + o]
-  void resize(std::size_t points, std::size_t objects) {
+  std::vector<Entry> entries;        ///< point-major: entries[i * objects + o]
+  std::vector<std::uint32_t> slots;  ///< entries.size() * candidates(): kept-triangle slots
+  std::vector<float> lower;          ///< their distance from x0, rounded down (ascending)
+  /// entries.size() * 12: a copy of each entry's first candidate (A, B - A, C - A, unit normal:
+  /// the collider's own doubles), used for objects of more than 4096 triangles, so that a point
+  /// at rest reads its entry and nothing of a collider that does not stay in cache.
+  std::vector<double> firsts;
+  std::size_t candidates() const { return k_; }
+  void resize(std::size_t points, std::size_t objects,
+              std::size_t candidates = kDefaultCandidates) {
+    k_ = candidates < 1 ? 1 : (candidates > kMaxCandidates ? kMaxCandidates : candidates);
     entries.assign(points * objects, Entry{});
+    slots.assign(entries.size() * k_, 0u);
+    lower.assign(entries.size() * k_, 0.0f);
+    firsts.assign(entries.size() * 12, 0.0);
   }
+  /// Bytes per (point, object) pair.
+  std::size_t bytes_per_entry() const {
+    return sizeof(Entry) + 12 * sizeof(double) + k_ * (sizeof(std::uint32_t) + sizeof(float));
+  }
+
+ private:
+  std::size_t k_ = 1;
 };
 
 /// Static collider triangles in world space, grouped by object, with a BVH per object.
@@ -165,10 +204,17 @@ struct ColliderSet {
   /// the object other than the one returned (of all of them when none is returned).
   ColliderHit query_object(std::size_t o, const double p[3], double radius_sq, QueryMethod method,
                            std::int32_t hint, double* others_lb = nullptr) const;
-  /// query_object() through a certificate: reuses e's answer when provably unchanged,
-  /// otherwise searches and renews e. `certified` tells which.
+  /// query_object() through a certificate: reuses entry `e` of `cache` when its answer is
+  /// provably unchanged, otherwise searches and renews it. `certified` tells which.
   ColliderHit query_cached(std::size_t o, const double p[3], double radius_sq, QueryMethod method,
-                           ContactCache::Entry& e, bool& certified) const;
+                           ContactCache& cache, std::size_t e, bool& certified) const;
+  /// The K nearest kept triangles of object o within radius (ties: lowest input index), as
+  /// slots in `slots` and distances^2 in `d2`, ascending; returns how many (<= k). `others_lb`
+  /// receives a lower bound of the distance of every other kept triangle of the object.
+  /// `seed`: slots to test first (a previous list), only to start with a small bound.
+  std::size_t query_nearest(std::size_t o, const double p[3], double radius_sq, QueryMethod method,
+                            std::size_t k, std::span<const std::uint32_t> seed,
+                            std::uint32_t* slots, double* d2, double& others_lb) const;
 
  private:
   struct Object {
@@ -193,9 +239,14 @@ struct ColliderSet {
   // Kept triangles: A, AB = B - A, AC = C - A, unit normal; one block of 4 slots per BVH leaf,
   // each block a small structure of arrays (12 components x 4 slots, 384 bytes).
   std::vector<double> tri_;
+  detail::Tri tri_at(std::uint32_t slot) const;
   std::vector<std::int32_t> orig_;     ///< per slot: input triangle index in its object, -1 unused
   std::size_t kept_total_ = 0;
   std::uint32_t collapse(std::uint32_t binary);
+  /// query_cached()'s search and renewal of entry ei (kept out of its fast path).
+  [[gnu::noinline]] ColliderHit renew_cached(std::size_t o, const double p[3], double radius_sq,
+                                             QueryMethod method, ContactCache& cache,
+                                             std::size_t ei) const;
   std::vector<Node> nodes_;    ///< the binary tree, only during build()
   std::vector<Node4> nodes4_;  ///< what queries traverse
   Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), hi_ = Eigen::Vector3d::Zero();
