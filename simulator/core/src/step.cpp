@@ -123,7 +123,7 @@ void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Mat
   const std::uint32_t* sb = model.spring_b.data();
   const double* rest = model.rest_length0.data();
   const std::uint8_t* kind = model.spring_kind.data();
-  const double ks = model.options.k_struct, kb = model.options.k_bend;  // = model.spring_stiffness(s)
+  const double k[2] = {model.options.k_struct, model.options.k_bend};  // k[kind != 0] = model.spring_stiffness(s)
   const double* px = x.data();
   double* pf = f.data();
   for (std::size_t s = 0; s < s_count; ++s) {
@@ -132,7 +132,7 @@ void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Mat
     const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
     if (len == 0.0) continue;  // coincident ends: no direction, no force
     // eq. 4: f_a = dx/|dx| k (l - |dx|), f_b = -f_a
-    const double c = (kind[s] == 0 ? ks : kb) * (rest[s] - len) / len;
+    const double c = k[kind[s] != 0] * (rest[s] - len) / len;
     pf[a] += c * dx;
     pf[a + 1] += c * dy;
     pf[a + 2] += c * dz;
@@ -167,13 +167,13 @@ void spring_pass_scalar(const Model& model, const double* px, double* fs, std::s
   const std::uint32_t* sb = model.spring_b.data();
   const double* rest = model.rest_length0.data();
   const std::uint8_t* kind = model.spring_kind.data();
-  const double ks = model.options.k_struct, kb = model.options.k_bend;  // = model.spring_stiffness(s)
+  const double k[2] = {model.options.k_struct, model.options.k_bend};  // k[kind != 0] = model.spring_stiffness(s)
   for (std::size_t j = j0; j < j1; ++j) {
     const std::size_t s = list ? list[j] : j;  // springs j0..j1, or those a list names
     const std::size_t a = 3 * std::size_t{sa[s]}, b = 3 * std::size_t{sb[s]};
     const double dx = px[a] - px[b], dy = px[a + 1] - px[b + 1], dz = px[a + 2] - px[b + 2];
     const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-    const double c = len == 0.0 ? 0.0 : (kind[s] == 0 ? ks : kb) * (rest[s] - len) / len;
+    const double c = len == 0.0 ? 0.0 : k[kind[s] != 0] * (rest[s] - len) / len;
     fs[4 * s] = c * dx;
     fs[4 * s + 1] = c * dy;
     fs[4 * s + 2] = c * dz;
@@ -212,7 +212,7 @@ __attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const 
   const std::uint32_t* sb = model.spring_b.data();
   const double* rest = model.rest_length0.data();
   const std::uint8_t* kind = model.spring_kind.data();
-  // the stiffness of 4 springs: k_struct where the kind byte is 0, k_bend elsewhere
+  // the stiffness of 4 springs: k_struct where the kind byte is 0, else k_bend (Model::spring_stiffness)
   const __m256d ks = _mm256_set1_pd(model.options.k_struct), kb = _mm256_set1_pd(model.options.k_bend);
   const __m256d zero = _mm256_setzero_pd();
   const __m256i xyz = _mm256_setr_epi64x(-1, -1, -1, 0);  // lanes x, y, z of a mass (never past x's end)
@@ -235,7 +235,7 @@ __attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const 
     const __m256d len2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
                                        _mm256_mul_pd(dz, dz));
     const __m256d len = _mm256_sqrt_pd(len2);
-    __m256i kinds;
+    __m256i kinds;  // the 4 kind bytes, widened
     if (list) {
       kinds = _mm256_setr_epi64x(kind[sl[0]], kind[sl[1]], kind[sl[2]], kind[sl[3]]);
     } else {
