@@ -74,7 +74,7 @@ struct Model {
 
   std::vector<std::uint32_t> spring_a, spring_b;  ///< (s) global mass indices
   Eigen::VectorXd rest_length0;          ///< (s) m
-  std::vector<std::uint8_t> spring_kind; ///< (s) 0 structural (k_struct), else bend (k_bend)
+  std::vector<std::uint8_t> spring_kind; ///< (s) 0 structural (k_struct), 1 bend (k_bend): b2o::SpringKind
 
   std::vector<ClothRange> cloths;        ///< masses/springs grouped by cloth object
 
