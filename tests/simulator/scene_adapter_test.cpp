@@ -68,8 +68,9 @@ TEST(SceneAdapter, ClothBecomesMassesSpringsPinsAndTheRestColliders) {
   EXPECT_EQ(m.x0(0, 1), 0.5);
   EXPECT_EQ(m.pinned[3], 1);
   EXPECT_EQ(m.inv_mass[3], 0.0);
-  EXPECT_EQ(m.stiffness[0], 111);
-  EXPECT_EQ(m.stiffness[5], 22);
+  EXPECT_EQ(m.spring_kind[0], 0);
+  EXPECT_EQ(m.spring_stiffness(0), 111);
+  EXPECT_EQ(m.spring_stiffness(5), 22);
   EXPECT_EQ(m.spring_kind[5], 1);
   EXPECT_NEAR(m.rest_length0[4], std::sqrt(0.5), 1e-15);  // recomputed in double, not the baked float
   ASSERT_EQ(m.cloths.size(), 1u);

@@ -129,7 +129,7 @@ void spring_jacobians(const Model& m, const Eigen::Matrix3Xd& x, IntegratorScrat
   for (std::size_t k = 0; k < m.spring_count(); ++k) {
     const Eigen::Vector3d e = x.col(m.spring_a[k]) - x.col(m.spring_b[k]);
     const double len = e.norm();
-    const double ks = m.stiffness[static_cast<Eigen::Index>(k)];
+    const double ks = m.spring_stiffness(k);
     if (len <= 0.0) {  // coincident ends: isotropic stand-in, keeps the matrix SPD
       sc.spring_k[k] = ks * Eigen::Matrix3d::Identity();
       continue;
@@ -222,8 +222,8 @@ void fms_precompute(const Model& m, IntegratorScratch& sc, double h) {
   const double h2 = h * h;
   double ksum = m.options.damping;  // the key: damping is in the matrix too
   for (std::size_t k = 0; k < m.spring_count(); ++k) {
-    const double w = h2 * m.stiffness[static_cast<Eigen::Index>(k)];
-    ksum += m.stiffness[static_cast<Eigen::Index>(k)];
+    const double w = h2 * m.spring_stiffness(k);
+    ksum += m.spring_stiffness(k);
     const int a = sc.compact[m.spring_a[k]], b = sc.compact[m.spring_b[k]];
     if (a >= 0) t.emplace_back(a, a, w);
     if (b >= 0) t.emplace_back(b, b, w);
@@ -242,7 +242,7 @@ void fms_precompute(const Model& m, IntegratorScratch& sc, double h) {
 
 void fast_mass_spring(const Model& m, State& s, Workspace& ws, IntegratorScratch& sc, double h) {
   double ksum = m.options.damping;
-  for (Eigen::Index k = 0; k < m.stiffness.size(); ++k) ksum += m.stiffness[k];
+  for (std::size_t k = 0; k < m.spring_count(); ++k) ksum += m.spring_stiffness(k);
   if (sc.llt_h != h || sc.llt_ksum != ksum) fms_precompute(m, sc, h);
   // External forces = everything but the springs and the damping (gravity, contact, drag),
   // explicit. The force stage's damping is -gamma v (step.hpp), added back here.
@@ -269,7 +269,7 @@ void fast_mass_spring(const Model& m, State& s, Workspace& ws, IntegratorScratch
         sc.b.row(sc.compact[i]) = (m.mass[c] * sc.y.col(c) + h * m.options.damping * s.x.col(c)).transpose();
       }
     for (std::size_t k = 0; k < m.spring_count(); ++k) {
-      const double w = h2 * m.stiffness[static_cast<Eigen::Index>(k)];
+      const double w = h2 * m.spring_stiffness(k);
       const Eigen::Vector3d jd = w * sc.d.col(static_cast<Eigen::Index>(k));
       const int a = sc.compact[m.spring_a[k]], b = sc.compact[m.spring_b[k]];
       if (a >= 0) {
@@ -306,7 +306,7 @@ void xpbd(const Model& m, State& s, Workspace& ws, IntegratorScratch& sc, double
   for (std::size_t k = 0; k < m.spring_count(); ++k) {
     const auto a = m.spring_a[k], b = m.spring_b[k];
     const double wa = m.inv_mass[a], wb = m.inv_mass[b];
-    const double ks = m.stiffness[static_cast<Eigen::Index>(k)];
+    const double ks = m.spring_stiffness(k);
     if (ks <= 0.0 || wa + wb == 0.0) continue;
     const Eigen::Vector3d e = s.x.col(a) - s.x.col(b);
     const double len = e.norm();

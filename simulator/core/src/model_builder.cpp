@@ -42,7 +42,6 @@ std::size_t ModelBuilder::add_cloth(const Eigen::Matrix3Xd& positions,
 
   const Eigen::Index s0 = model_.rest_length0.size();
   model_.rest_length0.conservativeResize(s0 + static_cast<Eigen::Index>(springs.size()));
-  model_.stiffness.conservativeResize(s0 + static_cast<Eigen::Index>(springs.size()));
   Eigen::Index si = s0;
   for (const auto& s : springs) {
     model_.spring_a.push_back(r.first_mass + s.a);
@@ -50,7 +49,6 @@ std::size_t ModelBuilder::add_cloth(const Eigen::Matrix3Xd& positions,
     model_.spring_kind.push_back(s.kind);
     model_.rest_length0[si] =
         s.rest_length >= 0.0 ? s.rest_length : (positions.col(s.a) - positions.col(s.b)).norm();
-    model_.stiffness[si] = s.kind == 0 ? model_.options.k_struct : model_.options.k_bend;
     ++si;
   }
   model_.cloths.push_back(r);

@@ -107,7 +107,7 @@ double omega_max_bound(const Model& model, bool include_contact) {
   const double kc = include_contact && has_colliders(model) ? model.options.k_rep : 0.0;
   std::vector<double> diag(n, kc), off(n, 0.0);
   for (std::size_t s = 0; s < model.spring_count(); ++s) {
-    const double k = model.stiffness[static_cast<Eigen::Index>(s)];
+    const double k = model.spring_stiffness(s);
     const auto a = model.spring_a[s], b = model.spring_b[s];
     diag[a] += k;
     diag[b] += k;
@@ -128,7 +128,7 @@ OmegaEstimate omega_max_lanczos(const Model& model, const Eigen::Matrix3Xd* x, i
   std::vector<Eigen::Matrix3d> blocks(model.spring_count());
   for (std::size_t s = 0; s < model.spring_count(); ++s) {
     const Eigen::Vector3d e = pos.col(model.spring_a[s]) - pos.col(model.spring_b[s]);
-    const double len = e.norm(), k = model.stiffness[static_cast<Eigen::Index>(s)];
+    const double len = e.norm(), k = model.spring_stiffness(s);
     if (len <= 0.0) {
       blocks[s] = k * Eigen::Matrix3d::Identity();
       continue;

@@ -122,7 +122,8 @@ void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Mat
   const std::uint32_t* sa = model.spring_a.data();
   const std::uint32_t* sb = model.spring_b.data();
   const double* rest = model.rest_length0.data();
-  const double* k = model.stiffness.data();
+  const std::uint8_t* kind = model.spring_kind.data();
+  const double k[2] = {model.options.k_struct, model.options.k_bend};  // k[kind != 0] = model.spring_stiffness(s)
   const double* px = x.data();
   double* pf = f.data();
   for (std::size_t s = 0; s < s_count; ++s) {
@@ -131,7 +132,7 @@ void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Mat
     const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
     if (len == 0.0) continue;  // coincident ends: no direction, no force
     // eq. 4: f_a = dx/|dx| k (l - |dx|), f_b = -f_a
-    const double c = k[s] * (rest[s] - len) / len;
+    const double c = k[kind[s] != 0] * (rest[s] - len) / len;
     pf[a] += c * dx;
     pf[a + 1] += c * dy;
     pf[a + 2] += c * dz;
@@ -165,13 +166,14 @@ void spring_pass_scalar(const Model& model, const double* px, double* fs, std::s
   const std::uint32_t* sa = model.spring_a.data();
   const std::uint32_t* sb = model.spring_b.data();
   const double* rest = model.rest_length0.data();
-  const double* k = model.stiffness.data();
+  const std::uint8_t* kind = model.spring_kind.data();
+  const double k[2] = {model.options.k_struct, model.options.k_bend};  // k[kind != 0] = model.spring_stiffness(s)
   for (std::size_t j = j0; j < j1; ++j) {
     const std::size_t s = list ? list[j] : j;  // springs j0..j1, or those a list names
     const std::size_t a = 3 * std::size_t{sa[s]}, b = 3 * std::size_t{sb[s]};
     const double dx = px[a] - px[b], dy = px[a + 1] - px[b + 1], dz = px[a + 2] - px[b + 2];
     const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-    const double c = len == 0.0 ? 0.0 : k[s] * (rest[s] - len) / len;
+    const double c = len == 0.0 ? 0.0 : k[kind[s] != 0] * (rest[s] - len) / len;
     fs[4 * s] = c * dx;
     fs[4 * s + 1] = c * dy;
     fs[4 * s + 2] = c * dz;
@@ -209,7 +211,9 @@ __attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const 
   const std::uint32_t* sa = model.spring_a.data();
   const std::uint32_t* sb = model.spring_b.data();
   const double* rest = model.rest_length0.data();
-  const double* k = model.stiffness.data();
+  const std::uint8_t* kind = model.spring_kind.data();
+  // the stiffness of 4 springs: k_struct where the kind byte is 0, else k_bend (Model::spring_stiffness)
+  const __m256d ks = _mm256_set1_pd(model.options.k_struct), kb = _mm256_set1_pd(model.options.k_bend);
   const __m256d zero = _mm256_setzero_pd();
   const __m256i xyz = _mm256_setr_epi64x(-1, -1, -1, 0);  // lanes x, y, z of a mass (never past x's end)
   std::size_t j = j0;
@@ -231,7 +235,15 @@ __attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const 
     const __m256d len2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
                                        _mm256_mul_pd(dz, dz));
     const __m256d len = _mm256_sqrt_pd(len2);
-    const __m256d kv = list ? _mm256_setr_pd(k[sl[0]], k[sl[1]], k[sl[2]], k[sl[3]]) : _mm256_loadu_pd(k + j);
+    __m256i kinds;  // the 4 kind bytes, widened
+    if (list) {
+      kinds = _mm256_setr_epi64x(kind[sl[0]], kind[sl[1]], kind[sl[2]], kind[sl[3]]);
+    } else {
+      std::uint32_t four;
+      std::memcpy(&four, kind + j, sizeof four);
+      kinds = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(static_cast<int>(four)));
+    }
+    const __m256d kv = _mm256_blendv_pd(kb, ks, _mm256_castsi256_pd(_mm256_cmpeq_epi64(kinds, _mm256_setzero_si256())));
     const __m256d rv = list ? _mm256_setr_pd(rest[sl[0]], rest[sl[1]], rest[sl[2]], rest[sl[3]])
                             : _mm256_loadu_pd(rest + j);
     __m256d c = _mm256_div_pd(_mm256_mul_pd(kv, _mm256_sub_pd(rv, len)), len);
@@ -497,8 +509,8 @@ double gershgorin_omega_max(const Model& model) {
   const std::size_t n = model.mass_count();
   std::vector<double> ksum(n, model.colliders ? model.options.k_rep : 0.0);
   for (std::size_t s = 0; s < model.spring_count(); ++s) {
-    ksum[model.spring_a[s]] += model.stiffness[static_cast<Eigen::Index>(s)];
-    ksum[model.spring_b[s]] += model.stiffness[static_cast<Eigen::Index>(s)];
+    ksum[model.spring_a[s]] += model.spring_stiffness(s);
+    ksum[model.spring_b[s]] += model.spring_stiffness(s);
   }
   double w2 = 0.0;
   for (std::size_t i = 0; i < n; ++i)

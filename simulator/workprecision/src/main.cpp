@@ -74,17 +74,15 @@ clothsim::Model without_bend_springs(const clothsim::Model& m) {
   out.spring_a.clear();
   out.spring_b.clear();
   out.spring_kind.clear();
-  std::vector<double> rest, k;
+  std::vector<double> rest;
   for (std::size_t s = 0; s < m.spring_count(); ++s)
     if (m.spring_kind[s] == 0) {
       out.spring_a.push_back(m.spring_a[s]);
       out.spring_b.push_back(m.spring_b[s]);
       out.spring_kind.push_back(0);
       rest.push_back(m.rest_length0[static_cast<Eigen::Index>(s)]);
-      k.push_back(m.stiffness[static_cast<Eigen::Index>(s)]);
     }
   out.rest_length0 = Eigen::Map<Eigen::VectorXd>(rest.data(), static_cast<Eigen::Index>(rest.size()));
-  out.stiffness = Eigen::Map<Eigen::VectorXd>(k.data(), static_cast<Eigen::Index>(k.size()));
   out.cloths.clear();  // the ranges no longer hold; nothing below needs them
   return out;
 }
@@ -179,14 +177,16 @@ int main(int argc, char** argv) {
     for (const auto& e : todo) {
       clothsim::wp::Settings s = settings;
       s.horizon = horizon > 0.0 ? horizon : (fast ? 0.05 : e.horizon);
-      clothsim::Model model = clothsim::build_model(*e.scene, clothsim::scene_options(*e.scene));
+      clothsim::Options options = clothsim::scene_options(*e.scene);
       std::string label = e.name;
-      if (stiffness_scale != 1.0) {
-        model.stiffness *= stiffness_scale;
+      if (stiffness_scale != 1.0) {  // both kinds, before the build: nothing keeps the old values
+        options.k_struct *= stiffness_scale;
+        options.k_bend *= stiffness_scale;
         std::ostringstream o;
         o << e.name << "_k" << stiffness_scale;
         label = o.str();
       }
+      const clothsim::Model model = clothsim::build_model(*e.scene, options);
       const auto result = clothsim::wp::run(model, label, s, std::cerr);
       clothsim::wp::write_outputs(result, out_dir);
       clothsim::wp::print_summary(result, std::cout);

@@ -64,7 +64,7 @@ struct ColliderSet;
 /// Built once; step() reads it and never changes it. One Model can drive many States.
 /// Per-mass arrays have n = mass_count() entries, per-spring arrays s = spring_count().
 struct Model {
-  Options options;                       ///< the options it was built with
+  Options options;                       ///< the options it was built with (k_struct, k_bend: see spring_stiffness)
   std::string scene_name;
 
   Eigen::Matrix3Xd x0;                   ///< (3 x n) initial positions
@@ -74,8 +74,7 @@ struct Model {
 
   std::vector<std::uint32_t> spring_a, spring_b;  ///< (s) global mass indices
   Eigen::VectorXd rest_length0;          ///< (s) m
-  Eigen::VectorXd stiffness;             ///< (s) N/m
-  std::vector<std::uint8_t> spring_kind; ///< (s) 0 structural, 1 bend (b2o::SpringKind)
+  std::vector<std::uint8_t> spring_kind; ///< (s) 0 structural (k_struct), 1 bend (k_bend): b2o::SpringKind
 
   std::vector<ClothRange> cloths;        ///< masses/springs grouped by cloth object
 
@@ -84,6 +83,9 @@ struct Model {
 
   std::size_t mass_count() const { return static_cast<std::size_t>(x0.cols()); }
   std::size_t spring_count() const { return spring_a.size(); }
+
+  /// N/m. Not stored per spring: the kind says which of the two options applies.
+  double spring_stiffness(std::size_t s) const { return spring_kind[s] == 0 ? options.k_struct : options.k_bend; }
 };
 
 /// The only thing that changes.
