@@ -208,6 +208,9 @@ void ColliderSet::build() {
           cent[3 * i + k] += x / 3.0;
           lo_[static_cast<Eigen::Index>(k)] = std::min(lo_[static_cast<Eigen::Index>(k)], x);
           hi_[static_cast<Eigen::Index>(k)] = std::max(hi_[static_cast<Eigen::Index>(k)], x);
+          if (i == 0 && j == 0) ob.lo[static_cast<Eigen::Index>(k)] = ob.hi[static_cast<Eigen::Index>(k)] = x;
+          ob.lo[static_cast<Eigen::Index>(k)] = std::min(ob.lo[static_cast<Eigen::Index>(k)], x);
+          ob.hi[static_cast<Eigen::Index>(k)] = std::max(ob.hi[static_cast<Eigen::Index>(k)], x);
         }
     }
     std::vector<std::uint32_t> perm(kept.size());
@@ -215,6 +218,8 @@ void ColliderSet::build() {
     // Pad: many orders of magnitude above double rounding in the kernel (~1e-15 scale).
     const double pad = 1e-9 * scale;
     max_pad = std::max(max_pad, pad);
+    ob.lo.array() -= pad;
+    ob.hi.array() += pad;
     ob.scale = scale;
     ob.root = build_node(0, static_cast<std::uint32_t>(perm.size()), cent, perm, corners, pad);
 
@@ -719,6 +724,11 @@ constexpr std::uint8_t kRetry = 8;
 constexpr std::size_t kCopyAbove = 4096;
 }  // namespace
 
+bool ColliderSet::out_of_reach(std::size_t o, const double p[3], double radius_sq) const {
+  const Object& ob = objects_[o];
+  return ob.kept == 0 || box_dist_sq(ob.lo, ob.hi, p) > radius_sq;
+}
+
 ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double radius_sq,
                                       QueryMethod method, ContactCache& cache, std::size_t ei,
                                       bool& certified) const {
@@ -900,6 +910,13 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Matrix3Xd& x, double e
       continue;
     }
     for (std::size_t o = 0; o < no; ++o) {
+      // Far from this object: nothing in reach, and its cache entry is left as it is (a
+      // certificate stays true wherever the point goes: it is checked against the distance
+      // moved since it was made).
+      if (set.out_of_reach(o, p, reach_sq)) {
+        if (!hints.empty()) hints[i * no + o] = -1;
+        continue;
+      }
       ColliderHit h;
       if (cache) {
         bool certified = false;

@@ -199,6 +199,9 @@ struct ColliderSet {
     float c[3][4], h[3][4], a[9][4];
     std::uint32_t child[4];  ///< Node::packed form: leaf triangles, or a Node4 index << 3
   };
+  /// True when no kept triangle of object o can be within sqrt(radius_sq) of p (p is farther
+  /// from the object's padded box, or the object has none): one box test, no cache touched.
+  bool out_of_reach(std::size_t o, const double p[3], double radius_sq) const;
   /// One object's query; `hint` is an input triangle index or -1. Returns hit or invalid.
   /// `others_lb`, if given, receives a lower bound of the distance of every kept triangle of
   /// the object other than the one returned (of all of them when none is returned).
@@ -228,6 +231,8 @@ struct ColliderSet {
     std::uint32_t root = 0;                    ///< binary node index (valid when tri_end > tri_begin)
     std::uint32_t root4 = 0;                   ///< its Node4 (or leaf) in Node::packed form
     Node root_box{};                           ///< the root's box (the early-out per object)
+    /// Axis-aligned box of its kept triangles, padded as bounds_min/max (empty: lo > hi).
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1.0), hi = Eigen::Vector3d::Constant(-1.0);
     std::vector<std::int32_t> input_to_kept;   ///< input triangle -> kept slot, -1 if dropped
   };
   std::uint32_t build_node(std::uint32_t begin, std::uint32_t end, std::vector<double>& cent,
