@@ -51,6 +51,40 @@ inline float prune_bound(double best, double margin) {
   return static_cast<float>(r * r * (1.0 + 1e-5)) * (1.0f + 1e-6f);
 }
 
+// A BVH traversal's stack entry: a node or leaf (Node::packed form) and its box distance^2.
+struct StackEntry {
+  std::uint32_t ref;
+  float d2;
+};
+
+// One visit of a 4-wide node: its 4 oriented boxes against the point in one 128-bit vector
+// (SSE on x86-64, NEON on ARM); the children within `bound` are pushed farthest first, so the
+// nearest is popped next; the smallest distance of a real box pruned goes into pruned_f.
+inline void visit4(const ColliderSet::Node4& n, const float pf[3], float bound, StackEntry* stack,
+                   int& top, float& pruned_f) {
+  const v4f q0 = pf[0] - load4(n.c[0]), q1 = pf[1] - load4(n.c[1]), q2 = pf[2] - load4(n.c[2]);
+  const v4f t0 = load4(n.a[0]) * q0 + load4(n.a[1]) * q1 + load4(n.a[2]) * q2;
+  const v4f t1 = load4(n.a[3]) * q0 + load4(n.a[4]) * q1 + load4(n.a[5]) * q2;
+  const v4f t2 = load4(n.a[6]) * q0 + load4(n.a[7]) * q1 + load4(n.a[8]) * q2;
+  const v4f e0 = pos(vabs(t0) - load4(n.h[0])), e1 = pos(vabs(t1) - load4(n.h[1])),
+            e2 = pos(vabs(t2) - load4(n.h[2]));
+  const v4f d2 = e0 * e0 + e1 * e1 + e2 * e2;
+#ifdef CLOTHSIM_COLLISION_COUNTERS
+  g_box_tests += 4;
+#endif
+  StackEntry pass[4];
+  int np = 0;
+  for (int k = 0; k < 4; ++k)
+    if (d2[k] <= bound) {
+      int j = np++;
+      for (; j > 0 && pass[j - 1].d2 < d2[k]; --j) pass[j] = pass[j - 1];
+      pass[j] = StackEntry{n.child[k], d2[k]};
+    } else if (n.h[0][k] >= 0.0f) {  // a real box (empty lanes have h < 0)
+      pruned_f = std::min(pruned_f, static_cast<float>(d2[k]));
+    }
+  for (int k = 0; k < np; ++k) stack[top++] = pass[k];
+}
+
 inline double box_dist_sq(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const double p[3]) {
   double d2 = 0.0;
   for (int k = 0; k < 3; ++k) {
@@ -474,11 +508,7 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
     }
     // Depth-first, nearer boxes first; prune boxes strictly farther than the best so far
     // (equal distance may hide a lower-index tie).
-    struct Entry {
-      std::uint32_t ref;  // Node::packed form
-      float d2;
-    };
-    Entry stack[128];  // each visit pops 1, pushes <= 4; depth <= 26 for 2^28 triangles
+    StackEntry stack[128];  // each visit pops 1, pushes <= 4; depth <= 26 for 2^28 triangles
     int top = 0;
     const float pf[3] = {static_cast<float>(p[0]), static_cast<float>(p[1]),
                          static_cast<float>(p[2])};
@@ -490,9 +520,9 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
       pruned_f = root_d2;
       goto done;
     }
-    stack[top++] = Entry{ob.root4, 0.0f};
+    stack[top++] = StackEntry{ob.root4, 0.0f};
     while (top > 0) {
-      const Entry e = stack[--top];
+      const StackEntry e = stack[--top];
       if (e.d2 > bound) {
         pruned_f = std::min(pruned_f, e.d2);
         continue;
@@ -503,30 +533,7 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
         if (best != bound_for) bound_for = best, bound = prune_bound(best, margin);
         continue;
       }
-      const Node4& n = nodes4_[e.ref >> 3];
-      // 4 boxes at once in one 128-bit vector (SSE on x86-64, NEON on ARM).
-      const v4f q0 = pf[0] - load4(n.c[0]), q1 = pf[1] - load4(n.c[1]), q2 = pf[2] - load4(n.c[2]);
-      const v4f t0 = load4(n.a[0]) * q0 + load4(n.a[1]) * q1 + load4(n.a[2]) * q2;
-      const v4f t1 = load4(n.a[3]) * q0 + load4(n.a[4]) * q1 + load4(n.a[5]) * q2;
-      const v4f t2 = load4(n.a[6]) * q0 + load4(n.a[7]) * q1 + load4(n.a[8]) * q2;
-      const v4f e0 = pos(vabs(t0) - load4(n.h[0])), e1 = pos(vabs(t1) - load4(n.h[1])),
-                e2 = pos(vabs(t2) - load4(n.h[2]));
-      const v4f d2 = e0 * e0 + e1 * e1 + e2 * e2;
-#ifdef CLOTHSIM_COLLISION_COUNTERS
-      g_box_tests += 4;
-#endif
-      // Push the passing children farthest first, so the nearest is popped next.
-      Entry pass[4];
-      int np = 0;
-      for (int k = 0; k < 4; ++k)
-        if (d2[k] <= bound) {
-          int j = np++;
-          for (; j > 0 && pass[j - 1].d2 < d2[k]; --j) pass[j] = pass[j - 1];
-          pass[j] = Entry{n.child[k], d2[k]};
-        } else if (n.h[0][k] >= 0.0f) {  // a real box (empty lanes have h < 0)
-          pruned_f = std::min(pruned_f, static_cast<float>(d2[k]));
-        }
-      for (int k = 0; k < np; ++k) stack[top++] = pass[k];
+      visit4(nodes4_[e.ref >> 3], pf, bound, stack, top, pruned_f);
     }
   done:;
   }
@@ -650,11 +657,7 @@ std::size_t ColliderSet::query_nearest(std::size_t o, const double p[3], double 
   } else {
     for (const std::uint32_t slot : seed)
       if (slot >= ob.tri_begin && slot < ob.tri_end && orig_[slot] >= 0) test(slot);
-    struct Entry {
-      std::uint32_t ref;  // Node::packed form
-      float d2;
-    };
-    Entry stack[128];  // each visit pops 1, pushes <= 4; depth <= 26 for 2^28 triangles
+    StackEntry stack[128];  // each visit pops 1, pushes <= 4; depth <= 26 for 2^28 triangles
     int top = 0;
     const float pf[3] = {static_cast<float>(p[0]), static_cast<float>(p[1]),
                          static_cast<float>(p[2])};
@@ -666,9 +669,9 @@ std::size_t ColliderSet::query_nearest(std::size_t o, const double p[3], double 
       pruned_f = root_d2;
       goto done;
     }
-    stack[top++] = Entry{ob.root4, 0.0f};
+    stack[top++] = StackEntry{ob.root4, 0.0f};
     while (top > 0) {
-      const Entry e = stack[--top];
+      const StackEntry e = stack[--top];
       if (e.d2 > bound) {
         pruned_f = std::min(pruned_f, e.d2);
         continue;
@@ -679,29 +682,7 @@ std::size_t ColliderSet::query_nearest(std::size_t o, const double p[3], double 
         if (bound_sq() != bound_for) bound_for = bound_sq(), bound = prune_bound(bound_for, margin);
         continue;
       }
-      const Node4& nd = nodes4_[e.ref >> 3];
-      const v4f q0 = pf[0] - load4(nd.c[0]), q1 = pf[1] - load4(nd.c[1]),
-                q2 = pf[2] - load4(nd.c[2]);
-      const v4f t0 = load4(nd.a[0]) * q0 + load4(nd.a[1]) * q1 + load4(nd.a[2]) * q2;
-      const v4f t1 = load4(nd.a[3]) * q0 + load4(nd.a[4]) * q1 + load4(nd.a[5]) * q2;
-      const v4f t2 = load4(nd.a[6]) * q0 + load4(nd.a[7]) * q1 + load4(nd.a[8]) * q2;
-      const v4f e0 = pos(vabs(t0) - load4(nd.h[0])), e1 = pos(vabs(t1) - load4(nd.h[1])),
-                e2 = pos(vabs(t2) - load4(nd.h[2]));
-      const v4f d2 = e0 * e0 + e1 * e1 + e2 * e2;
-#ifdef CLOTHSIM_COLLISION_COUNTERS
-      g_box_tests += 4;
-#endif
-      Entry pass[4];
-      int np = 0;
-      for (int c = 0; c < 4; ++c)
-        if (d2[c] <= bound) {
-          int j = np++;
-          for (; j > 0 && pass[j - 1].d2 < d2[c]; --j) pass[j] = pass[j - 1];
-          pass[j] = Entry{nd.child[c], d2[c]};
-        } else if (nd.h[0][c] >= 0.0f) {  // a real box (empty lanes have h < 0)
-          pruned_f = std::min(pruned_f, static_cast<float>(d2[c]));
-        }
-      for (int c = 0; c < np; ++c) stack[top++] = pass[c];
+      visit4(nodes4_[e.ref >> 3], pf, bound, stack, top, pruned_f);
     }
   done:;
   }
