@@ -85,6 +85,40 @@ inline void visit4(const ColliderSet::Node4& n, const float pf[3], float bound, 
   for (int k = 0; k < np; ++k) stack[top++] = pass[k];
 }
 
+// Depth-first over one object's 4-wide tree, nearer boxes first. Boxes strictly farther than
+// the current bound are pruned (an equal distance may hide a lower-index tie); `test(slot)` is
+// called for every triangle slot of each leaf reached, and `bound_sq()` is the distance^2 a
+// triangle must beat, which shrinks as test() finds closer ones. Returns the smallest float
+// box distance^2 pruned (+inf if none): with the tested triangles, a bound of the rest.
+template <class BoundSq, class Test>
+float traverse(const std::vector<ColliderSet::Node4>& nodes4, const ColliderSet::Node& root_box,
+               std::uint32_t root4, const float pf[3], double margin, BoundSq bound_sq,
+               Test& test) {
+  double bound_for = bound_sq();
+  float bound = prune_bound(bound_for, margin);
+  const float root_d2 = box_dist_sq(root_box, pf);
+  if (root_d2 > bound) return root_d2;
+  float pruned_f = std::numeric_limits<float>::infinity();
+  StackEntry stack[128];  // each visit pops 1, pushes <= 4; depth <= 26 for 2^28 triangles
+  int top = 0;
+  stack[top++] = StackEntry{root4, 0.0f};
+  while (top > 0) {
+    const StackEntry e = stack[--top];
+    if (e.d2 > bound) {
+      pruned_f = std::min(pruned_f, e.d2);
+      continue;
+    }
+    if ((e.ref & 7u) != 0) {  // leaf
+      for (std::uint32_t slot = e.ref >> 3, end = slot + (e.ref & 7u); slot < end; ++slot)
+        test(slot);
+      if (bound_sq() != bound_for) bound_for = bound_sq(), bound = prune_bound(bound_for, margin);
+      continue;
+    }
+    visit4(nodes4[e.ref >> 3], pf, bound, stack, top, pruned_f);
+  }
+  return pruned_f;
+}
+
 inline double box_dist_sq(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const double p[3]) {
   double d2 = 0.0;
   for (int k = 0; k < 3; ++k) {
@@ -506,36 +540,10 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
       const std::int32_t slot = ob.input_to_kept[static_cast<std::size_t>(hint)];
       if (slot >= 0) test(static_cast<std::uint32_t>(slot));
     }
-    // Depth-first, nearer boxes first; prune boxes strictly farther than the best so far
-    // (equal distance may hide a lower-index tie).
-    StackEntry stack[128];  // each visit pops 1, pushes <= 4; depth <= 26 for 2^28 triangles
-    int top = 0;
     const float pf[3] = {static_cast<float>(p[0]), static_cast<float>(p[1]),
                          static_cast<float>(p[2])};
     margin = 4e-6 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
-    double bound_for = best;
-    float bound = prune_bound(best, margin);
-    const float root_d2 = box_dist_sq(ob.root_box, pf);
-    if (root_d2 > bound) {
-      pruned_f = root_d2;
-      goto done;
-    }
-    stack[top++] = StackEntry{ob.root4, 0.0f};
-    while (top > 0) {
-      const StackEntry e = stack[--top];
-      if (e.d2 > bound) {
-        pruned_f = std::min(pruned_f, e.d2);
-        continue;
-      }
-      if ((e.ref & 7u) != 0) {  // leaf
-        for (std::uint32_t slot = e.ref >> 3, end = slot + (e.ref & 7u); slot < end; ++slot)
-          test(slot);
-        if (best != bound_for) bound_for = best, bound = prune_bound(best, margin);
-        continue;
-      }
-      visit4(nodes4_[e.ref >> 3], pf, bound, stack, top, pruned_f);
-    }
-  done:;
+    pruned_f = traverse(nodes4_, ob.root_box, ob.root4, pf, margin, [&] { return best; }, test);
   }
   if (others_lb) {
     // Float box distances back to a safe lower bound of true distances (see prune_bound()).
@@ -657,34 +665,10 @@ std::size_t ColliderSet::query_nearest(std::size_t o, const double p[3], double 
   } else {
     for (const std::uint32_t slot : seed)
       if (slot >= ob.tri_begin && slot < ob.tri_end && orig_[slot] >= 0) test(slot);
-    StackEntry stack[128];  // each visit pops 1, pushes <= 4; depth <= 26 for 2^28 triangles
-    int top = 0;
     const float pf[3] = {static_cast<float>(p[0]), static_cast<float>(p[1]),
                          static_cast<float>(p[2])};
     margin = 4e-6 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
-    double bound_for = bound_sq();
-    float bound = prune_bound(bound_for, margin);
-    const float root_d2 = box_dist_sq(ob.root_box, pf);
-    if (root_d2 > bound) {
-      pruned_f = root_d2;
-      goto done;
-    }
-    stack[top++] = StackEntry{ob.root4, 0.0f};
-    while (top > 0) {
-      const StackEntry e = stack[--top];
-      if (e.d2 > bound) {
-        pruned_f = std::min(pruned_f, e.d2);
-        continue;
-      }
-      if ((e.ref & 7u) != 0) {  // leaf
-        for (std::uint32_t slot = e.ref >> 3, end = slot + (e.ref & 7u); slot < end; ++slot)
-          test(slot);
-        if (bound_sq() != bound_for) bound_for = bound_sq(), bound = prune_bound(bound_for, margin);
-        continue;
-      }
-      visit4(nodes4_[e.ref >> 3], pf, bound, stack, top, pruned_f);
-    }
-  done:;
+    pruned_f = traverse(nodes4_, ob.root_box, ob.root4, pf, margin, bound_sq, test);
   }
   const double box_lb =
       std::isinf(pruned_f)
