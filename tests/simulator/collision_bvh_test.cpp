@@ -324,3 +324,59 @@ TEST(CollisionBvh, CandidateCachePenaltyBitIdenticalWhileSliding) {
   EXPECT_GT(contacts, 60u * 200u);
   EXPECT_GT(certified, 60u * 400u / 2);  // most calls need no search
 }
+
+TEST(CollisionBvh, CachedPenaltyOnEdgesAtRestAndInRanges) {
+  // accumulate_penalty() with a cache, through its inlined common case: points that hover
+  // over vertices and edges of a flat grid (exact ties between triangles) and tremble by
+  // 1e-9 .. 1e-6 m, as cloth at rest does. Forces and stats are bit-identical to brute
+  // force; the ties are certified without a search; and splitting the points into ranges
+  // that share one cache (as threads do) changes nothing.
+  ColliderSet set;
+  const auto fl = clothsim::meshes::floor_grid(16, 1.0, 0.0);
+  set.add_object("floor", fl.vertices, fl.indices);
+  set.build();
+  const double cell = 2.0 / 16;
+  Eigen::Matrix3Xd x(3, 0);
+  std::vector<Vector3d> pts;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) {
+      pts.emplace_back(-0.6 + i * cell, 0.05 + 0.004 * j, -0.6 + j * cell);              // vertex
+      pts.emplace_back(-0.6 + (i + 0.5) * cell, 0.05 + 0.004 * i, -0.6 + j * cell);      // edge
+      pts.emplace_back(-0.6 + (i + 0.5) * cell, 0.05, -0.6 + (j + 0.5) * cell);          // diagonal
+      pts.emplace_back(-0.6 + (i + 0.3) * cell, 0.009 * j, -0.6 + (j + 0.6) * cell);     // face
+    }
+  x.resize(3, static_cast<Eigen::Index>(pts.size()));
+  for (std::size_t i = 0; i < pts.size(); ++i) x.col(static_cast<Eigen::Index>(i)) = pts[i];
+  const auto n = static_cast<std::size_t>(x.cols());
+  clothsim::ContactCache whole, split;
+  whole.resize(n, 1);
+  split.resize(n, 1);
+  std::mt19937_64 rng(11);
+  std::size_t certified = 0, contacts = 0;
+  for (int round = 0; round < 50; ++round) {
+    std::normal_distribution<double> tremble(0.0, round < 25 ? 1e-9 : 1e-6);
+    Eigen::Matrix3Xd xr = x;
+    for (Eigen::Index i = 0; i < xr.size(); ++i) xr.data()[i] += tremble(rng);
+    Eigen::Matrix3Xd fb = Eigen::Matrix3Xd::Zero(3, x.cols()), fw = fb, fs = fb;
+    PenaltyStats sb, sw, s1, s2;
+    accumulate_penalty(set, xr, 0.1, 1000.0, fb, sb, {}, QueryMethod::BruteForce);
+    accumulate_penalty(set, xr, 0.1, 1000.0, fw, sw, whole);
+    const std::size_t cut = 137 + static_cast<std::size_t>(round) % 100;  // ranges vary per call
+    accumulate_penalty(set, xr, 0, cut, 0.1, 1000.0, fs, s1, split);
+    accumulate_penalty(set, xr, cut, n, 0.1, 1000.0, fs, s2, split);
+    const std::size_t bytes = sizeof(double) * static_cast<std::size_t>(x.size());
+    ASSERT_EQ(std::memcmp(fb.data(), fw.data(), bytes), 0) << "round " << round;
+    ASSERT_EQ(std::memcmp(fb.data(), fs.data(), bytes), 0) << "round " << round;
+    ASSERT_EQ(sb.contacts, sw.contacts);
+    ASSERT_EQ(sb.contacts, s1.contacts + s2.contacts);
+    ASSERT_TRUE(same_bits(sb.max_penetration, sw.max_penetration));
+    if (round > 0) certified += sw.certified;
+    contacts += sb.contacts;
+  }
+  EXPECT_EQ(contacts, 50u * n);  // every point is in the band
+  EXPECT_GT(certified, 49u * n * 9 / 10);
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+  PenaltyStats s;
+  EXPECT_THROW(accumulate_penalty(set, x, 5, 4, 0.1, 1000.0, f, s, whole), std::invalid_argument);
+  EXPECT_THROW(accumulate_penalty(set, x, 0, n + 1, 0.1, 1000.0, f, s, whole), std::invalid_argument);
+}

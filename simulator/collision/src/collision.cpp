@@ -172,6 +172,10 @@ inline detail::Tri ColliderSet::tri_at(std::uint32_t slot) const {
                      b[8 * kBlock], b[9 * kBlock],  b[10 * kBlock], b[11 * kBlock]};
 }
 
+inline const double* ColliderSet::tri_ptr(std::uint32_t slot) const {
+  return &tri_[12 * std::size_t{slot & ~(kBlock - 1)} + (slot & (kBlock - 1))];
+}
+
 bool triangle_is_degenerate(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                             const Eigen::Vector3d& c) {
   if (!a.allFinite() || !b.allFinite() || !c.allFinite()) return true;
@@ -720,17 +724,22 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
   for (; evaluated < e.count; ++evaluated) {
     const std::int32_t c = evaluated;
     if (static_cast<double>(cl[c]) - moved - m > stop) break;
-    detail::Tri t;
-    if (c == 0 && use_copy) std::memcpy(&t, first, sizeof t);
-    else t = tri_at(cs[c]);
-    double s, v, w;
-    TriangleRegion region;
-    const double d2 = detail::closest_sq(p, t, s, v, w, region);
+    double s, d2;
+    const double* n;  // the normal's components at n[0], n[stride], n[2 stride]
+    std::size_t stride;
+    if (c == 0 && use_copy) {
+      d2 = detail::closest_sq<1>(p, first, s);
+      n = first + 9, stride = 1;
+    } else {
+      const double* t = tri_ptr(cs[c]);
+      d2 = detail::closest_sq<kBlock>(p, t, s);
+      n = t + 9 * kBlock, stride = kBlock;
+    }
     dist[c] = std::sqrt(d2);
     const std::int32_t idx = c == 0 ? e.tri_index : orig_[cs[c]];
     if (d2 <= radius_sq && better(d2, idx, best, best_tri)) {
       best = d2, best_tri = idx, best_s = s;
-      best_n[0] = t.nx, best_n[1] = t.ny, best_n[2] = t.nz;
+      best_n[0] = n[0], best_n[1] = n[stride], best_n[2] = n[2 * stride];
       stop = dist[c];
     }
   }
@@ -745,11 +754,12 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
     hit.normal = Eigen::Vector3d(best_n[0], best_n[1], best_n[2]);
   }
   if (e.age < kMinAge) ++e.age;
-  if (evaluated > 1 && moved > 0.0) {
+  if (evaluated > e.settled && moved > 0.0) {
     // Move the certificate here: the same facts, measured from p. The evaluated candidates
     // get their distances now (so the next call evaluates only the near-ties), the others
     // and L lose what the point moved (and a rounding margin). Kept ascending. Only when
-    // more than the first candidate had to be evaluated: a point at rest writes nothing.
+    // more candidates than the near-ties of the last move (`settled`) had to be evaluated:
+    // a point at rest writes nothing, even on an edge between two triangles.
     e.x0[0] = p[0], e.x0[1] = p[1], e.x0[2] = p[2];
     e.others_lb -= moved + m;
     const std::uint32_t first_slot = e.count > 0 ? cs[0] : 0;
@@ -761,6 +771,9 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
       for (; j > 0 && cl[j - 1] > lo; --j) cl[j] = cl[j - 1], cs[j] = cs[j - 1];
       cl[j] = lo, cs[j] = sl;
     }
+    std::int32_t ties = 0;
+    while (ties < e.count && static_cast<double>(cl[ties]) - m <= stop) ++ties;
+    e.settled = static_cast<std::uint8_t>(std::clamp(ties, 1, 255));
     if (e.count > 0 && cs[0] != first_slot) {
       e.tri_index = orig_[cs[0]];
       if (use_copy) {
@@ -770,6 +783,51 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
     }
   }
   return hit;
+}
+
+[[gnu::always_inline]] inline bool ColliderSet::certify_fast(
+    std::size_t o, const double p[3], double radius_sq, ContactCache& cache, std::size_t ei,
+    bool& hit, double& signed_distance, double normal[3]) const {
+  ContactCache::Entry& e = cache.entries[ei];
+  if (e.count < 0) return false;
+  const Object& ob = objects_[o];
+  // The same m, moved and comparisons as query_cached(): the same decisions.
+  const double m =
+      1e-10 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
+  const double dx = p[0] - e.x0[0], dy = p[1] - e.x0[1], dz = p[2] - e.x0[2];
+  const double moved = std::sqrt(dx * dx + dy * dy + dz * dz);
+  const double reach = std::sqrt(radius_sq);
+  if (e.count == 0) {  // nothing was in reach: still none while L - moved stays beyond reach
+    if (!(reach + moved + m < e.others_lb)) return false;
+    hit = false;
+  } else {
+    const float* cl = cache.lower.data() + ei * cache.candidates();
+    if (static_cast<double>(cl[0]) - moved - m > reach) return false;
+    // The corners are read in place (a Tri filled from either source was spilled to the
+    // stack and read back, stalling).
+    double s, d2;
+    const double* n;
+    std::size_t stride;
+    if (ob.kept > kCopyAbove) {
+      const double* t = cache.firsts.data() + 12 * ei;
+      d2 = detail::closest_sq<1>(p, t, s);
+      n = t + 9, stride = 1;
+    } else {
+      const double* t = tri_ptr(cache.slots[ei * cache.candidates()]);
+      d2 = detail::closest_sq<kBlock>(p, t, s);
+      n = t + 9 * kBlock, stride = kBlock;
+    }
+    if (!(d2 <= radius_sq)) return false;
+    const double d = std::sqrt(d2);
+    // the second candidate and every other triangle stay farther: the first is the answer
+    if (e.count > 1 && !(static_cast<double>(cl[1]) - moved - m > d)) return false;
+    if (!(d + moved + m < e.others_lb)) return false;
+    hit = true;
+    signed_distance = s < 0.0 ? -d : d;  // detail::signed_distance(d2, s)
+    normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
+  }
+  if (e.age < kMinAge) ++e.age;
+  return true;
 }
 
 ColliderHit ColliderSet::renew_cached(std::size_t o, const double p[3], double radius_sq,
@@ -799,6 +857,7 @@ ColliderHit ColliderSet::renew_cached(std::size_t o, const double p[3], double r
       k > 1 && (e.count < 0 || e.age >= kMinAge || e.lean >= (kRetry << e.backoff));
   e.lean = list ? 0 : static_cast<std::uint16_t>(std::min(e.lean + 1, 0xffff));
   e.age = 0;
+  e.settled = 1;
   e.x0[0] = p[0], e.x0[1] = p[1], e.x0[2] = p[2];
   if (!list) {  // 1-nearest (the single-triangle certificate)
     double lb = 0.0;
@@ -840,9 +899,12 @@ ColliderHit ColliderSet::renew_cached(std::size_t o, const double p[3], double r
 
 namespace {
 
-void accumulate_impl(const ColliderSet& set, const Eigen::Matrix3Xd& x, double eps, double k_rep,
-                     Eigen::Matrix3Xd& f, PenaltyStats& stats, std::span<std::int32_t> hints,
-                     ContactCache* cache, QueryMethod method) {
+#define GNU_NOINLINE __attribute__((noinline))
+
+void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matrix3Xd>& x, double eps,
+                     double k_rep, Eigen::Ref<Eigen::Matrix3Xd>& f, PenaltyStats& stats, std::span<std::int32_t> hints,
+                     ContactCache* cache, QueryMethod method, std::size_t begin = 0,
+                     std::size_t end = std::numeric_limits<std::size_t>::max()) {
   if (!set.built()) throw std::logic_error("accumulate_penalty(): ColliderSet not built");
   if (!(eps > 0.0) || !std::isfinite(eps) || !(k_rep >= 0.0) || !std::isfinite(k_rep))
     throw std::invalid_argument("accumulate_penalty(): need eps > 0 and k_rep >= 0, finite");
@@ -857,17 +919,51 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Matrix3Xd& x, double e
                 cache->lower.size() != n * no * cache->candidates() ||
                 cache->firsts.size() != n * no * 12))
     throw std::invalid_argument("accumulate_penalty(): ContactCache needs resize(points, objects)");
+  if (end > n) end = n;
+  if (begin > end)
+    throw std::invalid_argument("accumulate_penalty(): point range outside the cloth");
   stats = PenaltyStats{};
   if (no == 0 || set.triangle_count() == 0) return;
 
   // Search to 2 eps so that points just past the band behind a surface are seen (tunnelled).
   const double reach = 2.0 * eps, reach_sq = reach * reach;
   const Eigen::Vector3d lo = set.bounds_min(), hi = set.bounds_max();
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto ii = static_cast<Eigen::Index>(i);
-    const double p[3] = {x(0, ii), x(1, ii), x(2, ii)};
+  const double* px = x.data();
+  double* pf = f.data();
+  const Eigen::Index xs = x.outerStride(), fs = f.outerStride();
+  // Eq. 12 for one (point, object) answer: d signed distance, n unit normal.
+  const auto respond = [&](double* fi, double d, const double* nrm) {
+    if (d < 0.0) stats.max_penetration = std::max(stats.max_penetration, -d);
+    if (d > eps) return;
+    if (d < -eps) {
+      ++stats.tunnelled;
+      return;
+    }
+    ++stats.contacts;
+    const double c = k_rep * (eps - d);  // f_i += (k_rep (eps - d)) n
+    fi[0] += c * nrm[0];
+    fi[1] += c * nrm[1];
+    fi[2] += c * nrm[2];
+  };
+  // Everything but a certificate's common case, kept out of the loop.
+  const auto full = [&](std::size_t i, std::size_t o, const double p[3]) GNU_NOINLINE {
+    ColliderHit h;
+    if (cache) {
+      bool certified = false;
+      h = set.query_cached(o, p, reach_sq, method, *cache, i * no + o, certified);
+      if (certified) ++stats.certified;
+    } else {
+      const std::int32_t hint = hints.empty() ? -1 : hints[i * no + o];
+      h = set.query_object(o, p, reach_sq, method, hint);
+      if (!hints.empty()) hints[i * no + o] = h.triangle;
+    }
+    if (h.valid()) respond(pf + static_cast<Eigen::Index>(i) * fs, h.signed_distance, h.normal.data());
+  };
+  for (std::size_t i = begin; i < end; ++i) {
+    const double* xi = px + static_cast<Eigen::Index>(i) * xs;
+    const double p[3] = {xi[0], xi[1], xi[2]};
     const bool finite = std::isfinite(p[0] + p[1] + p[2]);
-    if (!finite || box_dist_sq(lo, hi, p) > reach_sq) {  // NaN, or far from every collider
+    if (!finite || box_dist_sq(lo, hi, p) > reach_sq) [[unlikely]] {  // NaN, or far from every collider
       if (!finite) ++stats.nonfinite_points;
       if (!hints.empty()) std::fill_n(hints.begin() + static_cast<std::ptrdiff_t>(i * no), no, -1);
       if (cache)
@@ -882,42 +978,39 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Matrix3Xd& x, double e
         if (!hints.empty()) hints[i * no + o] = -1;
         continue;
       }
-      ColliderHit h;
-      if (cache) {
-        bool certified = false;
-        h = set.query_cached(o, p, reach_sq, method, *cache, i * no + o, certified);
-        if (certified) ++stats.certified;
+      bool hit = false;
+      double d = 0.0, nrm[3];
+      if (cache && set.certify_fast(o, p, reach_sq, *cache, i * no + o, hit, d, nrm)) [[likely]] {
+        ++stats.certified;
+        if (hit) respond(pf + static_cast<Eigen::Index>(i) * fs, d, nrm);
       } else {
-        const std::int32_t hint = hints.empty() ? -1 : hints[i * no + o];
-        h = set.query_object(o, p, reach_sq, method, hint);
-        if (!hints.empty()) hints[i * no + o] = h.triangle;
+        full(i, o, p);
       }
-      if (!h.valid()) continue;
-      const double d = h.signed_distance;
-      if (d < 0.0) stats.max_penetration = std::max(stats.max_penetration, -d);
-      if (d > eps) continue;
-      if (d < -eps) {
-        ++stats.tunnelled;
-        continue;
-      }
-      ++stats.contacts;
-      f.col(ii) += (k_rep * (eps - d)) * h.normal;
     }
   }
 }
 
 }  // namespace
 
-void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, double eps,
-                        double k_rep, Eigen::Matrix3Xd& f, PenaltyStats& stats,
+void accumulate_penalty(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3Xd> x, double eps,
+                        double k_rep, Eigen::Ref<Eigen::Matrix3Xd> f, PenaltyStats& stats,
                         std::span<std::int32_t> hints, QueryMethod method) {
   accumulate_impl(set, x, eps, k_rep, f, stats, hints, nullptr, method);
 }
 
-void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, double eps,
-                        double k_rep, Eigen::Matrix3Xd& f, PenaltyStats& stats,
+void accumulate_penalty(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3Xd> x, double eps,
+                        double k_rep, Eigen::Ref<Eigen::Matrix3Xd> f, PenaltyStats& stats,
                         ContactCache& cache, QueryMethod method) {
   accumulate_impl(set, x, eps, k_rep, f, stats, {}, &cache, method);
+}
+
+void accumulate_penalty(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3Xd> x,
+                        std::size_t begin, std::size_t end, double eps, double k_rep,
+                        Eigen::Ref<Eigen::Matrix3Xd> f, PenaltyStats& stats, ContactCache& cache,
+                        QueryMethod method) {
+  if (begin > end || end > static_cast<std::size_t>(x.cols()))
+    throw std::invalid_argument("accumulate_penalty(): point range outside the cloth");
+  accumulate_impl(set, x, eps, k_rep, f, stats, {}, &cache, method, begin, end);
 }
 
 }  // namespace clothsim

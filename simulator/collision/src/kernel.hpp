@@ -13,19 +13,22 @@ struct Tri {
   double ax, ay, az, bx, by, bz, cx, cy, cz, nx, ny, nz;  // A, AB, AC, n
 };
 
-inline double closest_sq(const double p[3], const Tri& t, double& s, double& v, double& w,
-                         TriangleRegion& region) {
-  const double apx = p[0] - t.ax, apy = p[1] - t.ay, apz = p[2] - t.az;
-  s = t.nx * apx + t.ny * apy + t.nz * apz;
-  const double d1 = t.bx * apx + t.by * apy + t.bz * apz;
-  const double d2 = t.cx * apx + t.cy * apy + t.cz * apz;
+/// The kernel on any storage: `t(k)` reads component k (A 0-2, AB 3-5, AC 6-8, n 9-11), so
+/// the corners can be read in place (a strided block) as well as from a Tri.
+template <class Get>
+inline double closest_sq_impl(const double p[3], const Get& t, double& s, double& v, double& w,
+                              TriangleRegion& region) {
+  const double apx = p[0] - t(0), apy = p[1] - t(1), apz = p[2] - t(2);
+  s = t(9) * apx + t(10) * apy + t(11) * apz;
+  const double d1 = t(3) * apx + t(4) * apy + t(5) * apz;
+  const double d2 = t(6) * apx + t(7) * apy + t(8) * apz;
   if (d1 <= 0.0 && d2 <= 0.0) {
     v = 0.0, w = 0.0, region = TriangleRegion::VertexA;
     return apx * apx + apy * apy + apz * apz;
   }
-  const double bpx = apx - t.bx, bpy = apy - t.by, bpz = apz - t.bz;
-  const double d3 = t.bx * bpx + t.by * bpy + t.bz * bpz;
-  const double d4 = t.cx * bpx + t.cy * bpy + t.cz * bpz;
+  const double bpx = apx - t(3), bpy = apy - t(4), bpz = apz - t(5);
+  const double d3 = t(3) * bpx + t(4) * bpy + t(5) * bpz;
+  const double d4 = t(6) * bpx + t(7) * bpy + t(8) * bpz;
   if (d3 >= 0.0 && d4 <= d3) {
     v = 1.0, w = 0.0, region = TriangleRegion::VertexB;
     return bpx * bpx + bpy * bpy + bpz * bpz;
@@ -33,12 +36,12 @@ inline double closest_sq(const double p[3], const Tri& t, double& s, double& v, 
   const double vc = d1 * d4 - d3 * d2;
   if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
     v = d1 / (d1 - d3), w = 0.0, region = TriangleRegion::EdgeAB;
-    const double ex = apx - v * t.bx, ey = apy - v * t.by, ez = apz - v * t.bz;
+    const double ex = apx - v * t(3), ey = apy - v * t(4), ez = apz - v * t(5);
     return ex * ex + ey * ey + ez * ez;
   }
-  const double cpx = apx - t.cx, cpy = apy - t.cy, cpz = apz - t.cz;
-  const double d5 = t.bx * cpx + t.by * cpy + t.bz * cpz;
-  const double d6 = t.cx * cpx + t.cy * cpy + t.cz * cpz;
+  const double cpx = apx - t(6), cpy = apy - t(7), cpz = apz - t(8);
+  const double d5 = t(3) * cpx + t(4) * cpy + t(5) * cpz;
+  const double d6 = t(6) * cpx + t(7) * cpy + t(8) * cpz;
   if (d6 >= 0.0 && d5 <= d6) {
     v = 0.0, w = 1.0, region = TriangleRegion::VertexC;
     return cpx * cpx + cpy * cpy + cpz * cpz;
@@ -46,7 +49,7 @@ inline double closest_sq(const double p[3], const Tri& t, double& s, double& v, 
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
     v = 0.0, w = d2 / (d2 - d6), region = TriangleRegion::EdgeCA;
-    const double ex = apx - w * t.cx, ey = apy - w * t.cy, ez = apz - w * t.cz;
+    const double ex = apx - w * t(6), ey = apy - w * t(7), ez = apz - w * t(8);
     return ex * ex + ey * ey + ez * ez;
   }
   const double va = d3 * d6 - d5 * d4;
@@ -54,14 +57,28 @@ inline double closest_sq(const double p[3], const Tri& t, double& s, double& v, 
     // Q = B + u (C - B); P - Q = BP - u (AC - AB)
     const double u = (d4 - d3) / ((d4 - d3) + (d5 - d6));
     v = 1.0 - u, w = u, region = TriangleRegion::EdgeBC;
-    const double ex = bpx - u * (t.cx - t.bx), ey = bpy - u * (t.cy - t.by),
-                 ez = bpz - u * (t.cz - t.bz);
+    const double ex = bpx - u * (t(6) - t(3)), ey = bpy - u * (t(7) - t(4)),
+                 ez = bpz - u * (t(8) - t(5));
     return ex * ex + ey * ey + ez * ez;
   }
   // Inside the face: the plane distance is the distance (and more accurate than P - Q).
   const double denom = 1.0 / (va + vb + vc);
   v = vb * denom, w = vc * denom, region = TriangleRegion::Face;
   return s * s;
+}
+
+inline double closest_sq(const double p[3], const Tri& t, double& s, double& v, double& w,
+                         TriangleRegion& region) {
+  const double c[12] = {t.ax, t.ay, t.az, t.bx, t.by, t.bz, t.cx, t.cy, t.cz, t.nx, t.ny, t.nz};
+  return closest_sq_impl(p, [&c](int k) { return c[k]; }, s, v, w, region);
+}
+
+/// |P - Q|^2 and s for the triangle whose component k is b[k * Stride] (the same arithmetic).
+template <std::size_t Stride>
+inline double closest_sq(const double p[3], const double* b, double& s) {
+  double v, w;
+  TriangleRegion region;
+  return closest_sq_impl(p, [b](int k) { return b[k * static_cast<int>(Stride)]; }, s, v, w, region);
 }
 
 /// The signed distance from |P - Q|^2 and the plane side; +0 on the plane.

@@ -100,6 +100,9 @@ struct ContactCache {
     std::uint16_t age = 0;   ///< certified calls since the last search (counted up to 8)
     std::uint16_t lean = 0;  ///< > 0: the last searches were 1-nearest (lists died young)
     std::uint8_t backoff = 0;  ///< lists died young this many times in a row (max 7)
+    /// Candidates a call at x0 evaluates (near-ties): a call that evaluates no more than this
+    /// leaves the certificate where it is (moving it would learn nothing new).
+    std::uint8_t settled = 1;
   };
   std::vector<Entry> entries;        ///< point-major: entries[i * objects + o]
   std::vector<std::uint32_t> slots;  ///< entries.size() * candidates(): kept-triangle slots
@@ -211,6 +214,13 @@ struct ColliderSet {
   /// provably unchanged, otherwise searches and renews it. `certified` tells which.
   ColliderHit query_cached(std::size_t o, const double p[3], double radius_sq, QueryMethod method,
                            ContactCache& cache, std::size_t e, bool& certified) const;
+  /// query_cached()'s common case, small enough to inline in the per-point loop: the entry's
+  /// certificate holds with nothing in reach, or with its first candidate the answer (the
+  /// point at rest or drifting). Then it returns true with `hit` (false: none in reach), and
+  /// `signed_distance`, `normal` of the answer; the entry is updated exactly as query_cached()
+  /// would. Returns false, touching nothing, when the full check is needed.
+  bool certify_fast(std::size_t o, const double p[3], double radius_sq, ContactCache& cache,
+                    std::size_t ei, bool& hit, double& signed_distance, double normal[3]) const;
   /// The K nearest kept triangles of object o within radius (ties: lowest input index), as
   /// slots in `slots` and distances^2 in `d2`, ascending; returns how many (<= k). `others_lb`
   /// receives a lower bound of the distance of every other kept triangle of the object.
@@ -245,6 +255,8 @@ struct ColliderSet {
   // each block a small structure of arrays (12 components x 4 slots, 384 bytes).
   std::vector<double> tri_;
   detail::Tri tri_at(std::uint32_t slot) const;
+  /// Where slot's 12 components start (component k at [k * 4]).
+  const double* tri_ptr(std::uint32_t slot) const;
   std::vector<std::int32_t> orig_;     ///< per slot: input triangle index in its object, -1 unused
   std::size_t kept_total_ = 0;
   std::uint32_t collapse(std::uint32_t binary);
@@ -265,16 +277,25 @@ struct ColliderSet {
 /// x.cols() * set.object_count() entries (point-major), initialised to -1 and kept between
 /// steps; it only speeds up the search. Never allocates. Throws std::logic_error if the set
 /// is not built or sizes disagree.
-void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, double eps,
-                        double k_rep, Eigen::Matrix3Xd& f, PenaltyStats& stats,
+void accumulate_penalty(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3Xd> x, double eps,
+                        double k_rep, Eigen::Ref<Eigen::Matrix3Xd> f, PenaltyStats& stats,
                         std::span<std::int32_t> hints = {},
                         QueryMethod method = QueryMethod::Bvh);
 
 /// The same, with a ContactCache (resized to x.cols() x set.object_count()) instead of hints:
 /// bit-identical forces and stats (but `certified`), much less work for points that move
 /// little between calls (cloth at rest). Throws std::invalid_argument on a wrong cache size.
-void accumulate_penalty(const ColliderSet& set, const Eigen::Matrix3Xd& x, double eps,
-                        double k_rep, Eigen::Matrix3Xd& f, PenaltyStats& stats,
+void accumulate_penalty(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3Xd> x, double eps,
+                        double k_rep, Eigen::Ref<Eigen::Matrix3Xd> f, PenaltyStats& stats,
                         ContactCache& cache, QueryMethod method = QueryMethod::Bvh);
+
+/// The same for the points [begin, end) of x only (the others are neither read nor written,
+/// nor their cache entries): threads may share one cache, each with its own ranges. The
+/// answers do not depend on how the points are split. Throws std::invalid_argument on a
+/// range outside x.
+void accumulate_penalty(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3Xd> x,
+                        std::size_t begin, std::size_t end, double eps, double k_rep,
+                        Eigen::Ref<Eigen::Matrix3Xd> f, PenaltyStats& stats, ContactCache& cache,
+                        QueryMethod method = QueryMethod::Bvh);
 
 }  // namespace clothsim
