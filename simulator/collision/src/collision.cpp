@@ -818,9 +818,22 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
       n = t + 9 * kBlock, stride = kBlock;
     }
     if (!(d2 <= radius_sq)) return false;
-    const double d = std::sqrt(d2);
-    // the second candidate and every other triangle stay farther: the first is the answer
-    if (e.count > 1 && !(static_cast<double>(cl[1]) - moved - m > d)) return false;
+    double d = std::sqrt(d2);
+    if (e.count > 1 && !(static_cast<double>(cl[1]) - moved - m > d)) {
+      // The second candidate may be as near (a point over an edge between two triangles):
+      // evaluate it too, when the certificate expects that (settled), else query_cached().
+      if (e.settled < 2) return false;
+      const double* t = tri_ptr(cache.slots[ei * cache.candidates() + 1]);
+      double s1;
+      const double d2b = detail::closest_sq<kBlock>(p, t, s1);
+      const std::int32_t idx1 = orig_[cache.slots[ei * cache.candidates() + 1]];
+      if (d2b <= radius_sq && better(d2b, idx1, d2, e.tri_index)) {
+        d2 = d2b, s = s1, n = t + 9 * kBlock, stride = kBlock;
+        d = std::sqrt(d2);
+      }
+      if (e.count > 2 && !(static_cast<double>(cl[2]) - moved - m > d)) return false;
+    }
+    // the other candidates and every other triangle stay farther: this is the answer
     if (!(d + moved + m < e.others_lb)) return false;
     hit = true;
     signed_distance = s < 0.0 ? -d : d;  // detail::signed_distance(d2, s)
