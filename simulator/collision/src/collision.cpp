@@ -522,10 +522,8 @@ ColliderHit ColliderSet::query_object(std::size_t o, const double p[3], double r
 #ifdef CLOTHSIM_COLLISION_COUNTERS
     ++g_tri_tests;
 #endif
-    const detail::Tri t = tri_at(slot);
-    double s, v, w;
-    TriangleRegion region;
-    const double d2 = detail::closest_sq(p, t, s, v, w, region);
+    double s;
+    const double d2 = detail::closest_sq<kBlock>(p, tri_ptr(slot), s);
     const std::int32_t idx = orig_[slot];
     if (found && idx == best_tri) return;  // the hint, met again in the tree
     if (d2 <= radius_sq && better(d2, idx, best, best_tri)) {
@@ -644,10 +642,8 @@ std::size_t ColliderSet::query_nearest(std::size_t o, const double p[3], double 
     if ((in_list >> (slot & 63u)) & 1u)  // perhaps in the list already (a seed, met again)
       for (std::size_t j = 0; j < n; ++j)
         if (slots[j] == slot) return;
-    const detail::Tri t = tri_at(slot);
-    double s, v, w;
-    TriangleRegion region;
-    const double d2 = detail::closest_sq(p, t, s, v, w, region);
+    double s;
+    const double d2 = detail::closest_sq<kBlock>(p, tri_ptr(slot), s);
     const std::int32_t idx = orig_[slot];
     if (d2 > radius_sq || (n == k && !better(d2, idx, d2s[k - 1], idxs[k - 1]))) {
       other_d2 = std::min(other_d2, d2);
