@@ -203,17 +203,32 @@ namespace {
 
 // Every (point, object) answer of query_cached() against brute force: same triangle (or none),
 // bit-identical distance^2 and signed distance. Returns the number of certified answers.
+// With `fast`, each pair first goes through certify_fast() (the inlined common case of
+// accumulate_penalty), whose answers must be brute force's too (signed distance and normal).
 std::size_t expect_cached_equals_brute(const ColliderSet& set, const Eigen::Matrix3Xd& x,
                                        double reach, clothsim::ContactCache& cache,
-                                       const char* what) {
+                                       const char* what, bool fast = false) {
   std::size_t certified = 0;
   const std::size_t no = set.object_count();
   for (Eigen::Index i = 0; i < x.cols(); ++i) {
     const double p[3] = {x(0, i), x(1, i), x(2, i)};
     for (std::size_t o = 0; o < no; ++o) {
+      const std::size_t ei = static_cast<std::size_t>(i) * no + o;
+      bool hit = false;
+      double d = 0.0, n[3] = {0.0, 0.0, 0.0};
+      if (fast && set.certify_fast(o, p, reach * reach, cache, ei, hit, d, n)) {
+        const ColliderHit b = set.query_object(o, p, reach * reach, QueryMethod::BruteForce, -1);
+        ++certified;
+        EXPECT_EQ(hit, b.valid()) << what << " fast, point " << i << " object " << o;
+        if (hit && b.valid()) {
+          EXPECT_TRUE(same_bits(d, b.signed_distance)) << what << " fast, point " << i;
+          for (int r = 0; r < 3; ++r) EXPECT_TRUE(same_bits(n[r], b.normal[r])) << what << " fast, point " << i;
+        }
+        if (::testing::Test::HasFailure()) return certified;
+        continue;
+      }
       bool cert = false;
-      const ColliderHit c = set.query_cached(o, p, reach * reach, QueryMethod::Bvh, cache,
-                                             static_cast<std::size_t>(i) * no + o, cert);
+      const ColliderHit c = set.query_cached(o, p, reach * reach, QueryMethod::Bvh, cache, ei, cert);
       const ColliderHit b = set.query_object(o, p, reach * reach, QueryMethod::BruteForce, -1);
       certified += cert ? 1 : 0;
       EXPECT_EQ(c.triangle, b.triangle) << what << " point " << i << " object " << o;
@@ -246,7 +261,7 @@ TEST(CollisionBvh, CandidateCacheEqualsBruteForceUnderMonotonicMotion) {
     for (int round = 0; round < 40; ++round) {
       const double step = round == 20 ? 0.3 : (round < 20 ? 2e-4 : 2e-3);  // a jump at 20
       x += step * vel;
-      const std::size_t c = expect_cached_equals_brute(set, x, 0.2, cache, "drift");
+      const std::size_t c = expect_cached_equals_brute(set, x, 0.2, cache, "drift", k % 2 == 0);
       if (round > 0 && round < 20) certified += c;
       if (HasFailure()) return;
     }
@@ -283,7 +298,7 @@ TEST(CollisionBvh, CandidateCacheTiesAndReachOnAFlatGrid) {
       const double lift = 0.01 * (round % 40 < 20 ? round % 40 : 40 - round % 40);  // 0 .. 0.2
       for (std::size_t i = 0; i < starts.size(); ++i)
         x.col(static_cast<Eigen::Index>(i)) = starts[i] + t * vel[i] + Vector3d(0.0, lift, 0.0);
-      expect_cached_equals_brute(set, x, 0.2, cache, "grid");
+      expect_cached_equals_brute(set, x, 0.2, cache, "grid", round % 2 == 1);
       if (HasFailure()) return;
     }
   }

@@ -781,7 +781,7 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
   return hit;
 }
 
-[[gnu::always_inline]] inline bool ColliderSet::certify_fast(
+[[gnu::always_inline]] inline bool ColliderSet::certify_inline(
     std::size_t o, const double p[3], double radius_sq, ContactCache& cache, std::size_t ei,
     bool& hit, double& signed_distance, double normal[3]) const {
   ContactCache::Entry& e = cache.entries[ei];
@@ -838,6 +838,23 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
   if (e.age < kMinAge) ++e.age;
   return true;
 }
+
+bool ColliderSet::certify_fast(std::size_t o, const double p[3], double radius_sq,
+                               ContactCache& cache, std::size_t ei, bool& hit,
+                               double& signed_distance, double normal[3]) const {
+  return certify_inline(o, p, radius_sq, cache, ei, hit, signed_distance, normal);
+}
+
+namespace detail {
+/// accumulate_penalty()'s way to the inlined check.
+struct PenaltyLoop {
+  static bool certify(const ColliderSet& set, std::size_t o, const double p[3], double radius_sq,
+                      ContactCache& cache, std::size_t ei, bool& hit, double& signed_distance,
+                      double normal[3]) {
+    return set.certify_inline(o, p, radius_sq, cache, ei, hit, signed_distance, normal);
+  }
+};
+}  // namespace detail
 
 ColliderHit ColliderSet::renew_cached(std::size_t o, const double p[3], double radius_sq,
                                       QueryMethod method, ContactCache& cache,
@@ -989,7 +1006,8 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
       }
       bool hit = false;
       double d = 0.0, nrm[3];
-      if (cache && set.certify_fast(o, p, reach_sq, *cache, i * no + o, hit, d, nrm)) [[likely]] {
+      if (cache && detail::PenaltyLoop::certify(set, o, p, reach_sq, *cache, i * no + o, hit, d, nrm))
+          [[likely]] {
         ++stats.certified;
         if (hit) respond(pf + static_cast<Eigen::Index>(i) * fs, d, nrm);
       } else {

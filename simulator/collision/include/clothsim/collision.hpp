@@ -28,6 +28,7 @@ namespace clothsim {
 
 namespace detail {
 struct Tri;
+struct PenaltyLoop;
 }
 
 /// Which feature of a triangle the closest point lies on.
@@ -254,6 +255,10 @@ struct ColliderSet {
   // Kept triangles: A, AB = B - A, AC = C - A, unit normal; one block of 4 slots per BVH leaf,
   // each block a small structure of arrays (12 components x 4 slots, 384 bytes).
   std::vector<double> tri_;
+  friend struct detail::PenaltyLoop;
+  /// certify_fast(), inlined into accumulate_penalty()'s per-point loop.
+  bool certify_inline(std::size_t o, const double p[3], double radius_sq, ContactCache& cache,
+                      std::size_t ei, bool& hit, double& signed_distance, double normal[3]) const;
   detail::Tri tri_at(std::uint32_t slot) const;
   /// Where slot's 12 components start (component k at [k * 4]).
   const double* tri_ptr(std::uint32_t slot) const;
