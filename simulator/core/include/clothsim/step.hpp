@@ -47,6 +47,9 @@ struct Workspace {
   /// The gathered spring forces (performance, issue 6); shared by copies of the Workspace.
   /// Without it (a Workspace not made by make_workspace) the forces use the scatter loop.
   std::shared_ptr<const SpringAdjacency> adjacency;
+  /// More threads: which springs and masses each thread takes (made once per thread count, so
+  /// that each thread works block by block as one thread does). Shared by copies.
+  std::shared_ptr<struct SpringSplit> spring_split;
   /// (4 s + 4) each spring's force on its a end, c dx with c = k (l - |dx|) / |dx| (0 if |dx| = 0),
   /// as x, y, z, 0 in 32-byte blocks from the first 32-byte aligned element.
   std::vector<double> spring_f;
