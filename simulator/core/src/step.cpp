@@ -29,6 +29,16 @@ namespace {
 
 std::atomic<int> g_threads{1};
 
+#ifdef _OPENMP
+std::size_t thread_num() { return static_cast<std::size_t>(omp_get_thread_num()); }
+std::size_t team_size() { return static_cast<std::size_t>(omp_get_num_threads()); }
+double wtime() { return omp_get_wtime(); }
+#else
+std::size_t thread_num() { return 0; }
+std::size_t team_size() { return 1; }
+double wtime() { return 0.0; }
+#endif
+
 // Threads for a loop of `work` items: below ~4k items a parallel region costs more than it saves.
 int team(std::size_t work) {
   const int t = g_threads.load(std::memory_order_relaxed);
@@ -142,8 +152,12 @@ struct SpringSplit {
 struct CollisionScratch {
   ContactCache whole;  ///< every (mass, collider) pair's certificate
   /// More threads: the statistics of each run of kRun masses (combined in run order).
-  static constexpr std::size_t kRun = 512;
+  static constexpr std::size_t kRun = 128;
   std::vector<PenaltyStats> runs;
+  /// (threads + 1) the first run of each thread; each call moves a boundary by one run towards
+  /// the thread that took longer (contacts are not spread evenly over the cloth).
+  std::vector<std::size_t> bound;
+  std::vector<double> seconds;  ///< (threads) each thread's time in the last call
 };
 #else
 struct CollisionScratch {};
@@ -468,18 +482,40 @@ void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::
       accumulate_penalty(set, x, o.epsilon, o.k_rep, f, stats, ws.collision->whole);
     } else {
       // Runs of kRun masses, a contiguous share of them per thread (handing them out as
-      // threads get free was 30 % slower: the cache entries then moved between the cores),
-      // all sharing one cache: a point's answer and force do not depend on the others or on
-      // who computes them; the statistics combine in run order.
-      auto& runs = ws.collision->runs;
+      // threads get free was 30 % slower: the cache entries then moved between the cores), the
+      // shares balanced by the time each took in the last call. All share one cache: a point's
+      // answer and force do not depend on the others or on who computes them; the statistics
+      // combine in run order. So the results do not depend on the split, only the speed does.
+      CollisionScratch& cs = *ws.collision;
       const std::size_t count = (n + CollisionScratch::kRun - 1) / CollisionScratch::kRun;
-      if (runs.size() != count) runs.assign(count, {});  // allocates once
-#pragma omp parallel for schedule(static) num_threads(nt)
-      for (std::int64_t r = 0; r < static_cast<std::int64_t>(count); ++r) {
-        const std::size_t b = static_cast<std::size_t>(r) * CollisionScratch::kRun;
-        accumulate_penalty(set, x, b, std::min(n, b + CollisionScratch::kRun), o.epsilon, o.k_rep, f,
-                           runs[static_cast<std::size_t>(r)], ws.collision->whole);
+      const auto parts = static_cast<std::size_t>(nt);
+      if (cs.runs.size() != count || cs.bound.size() != parts + 1) {  // allocates once per thread count
+        cs.runs.assign(count, {});
+        cs.bound.resize(parts + 1);
+        for (std::size_t t = 0; t <= parts; ++t) cs.bound[t] = count * t / parts;
+        cs.seconds.assign(parts, 0.0);
       }
+      bool timed = true;
+#pragma omp parallel num_threads(nt)
+      {
+        const std::size_t t = thread_num(), got = team_size();
+        const double t0 = wtime();
+        const std::size_t r0 = got == parts ? cs.bound[t] : count * t / got;
+        const std::size_t r1 = got == parts ? cs.bound[t + 1] : count * (t + 1) / got;
+        for (std::size_t r = r0; r < r1; ++r) {
+          const std::size_t b = r * CollisionScratch::kRun;
+          accumulate_penalty(set, x, b, std::min(n, b + CollisionScratch::kRun), o.epsilon, o.k_rep, f,
+                             cs.runs[r], cs.whole);
+        }
+        if (got == parts) cs.seconds[t] = wtime() - t0;
+#pragma omp single nowait
+        if (got != parts) timed = false;
+      }
+      for (std::size_t t = 1; timed && t < parts; ++t) {
+        if (cs.seconds[t - 1] > 1.1 * cs.seconds[t] && cs.bound[t] > cs.bound[t - 1]) --cs.bound[t];
+        else if (cs.seconds[t] > 1.1 * cs.seconds[t - 1] && cs.bound[t] < cs.bound[t + 1]) ++cs.bound[t];
+      }
+      const auto& runs = cs.runs;
       for (const auto& run : runs) {
         stats.max_penetration = std::max(stats.max_penetration, run.max_penetration);
         stats.contacts += run.contacts;
