@@ -925,8 +925,6 @@ ColliderHit ColliderSet::renew_cached(std::size_t o, const double p[3], double r
 
 namespace {
 
-#define GNU_NOINLINE __attribute__((noinline))
-
 void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matrix3Xd>& x, double eps,
                      double k_rep, Eigen::Ref<Eigen::Matrix3Xd>& f, PenaltyStats& stats, std::span<std::int32_t> hints,
                      ContactCache* cache, QueryMethod method, std::size_t begin = 0,
@@ -972,7 +970,7 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
     fi[2] += c * nrm[2];
   };
   // Everything but a certificate's common case, kept out of the loop.
-  const auto full = [&](std::size_t i, std::size_t o, const double p[3]) GNU_NOINLINE {
+  const auto full = [&](std::size_t i, std::size_t o, const double p[3]) __attribute__((noinline)) {
     ColliderHit h;
     if (cache) {
       bool certified = false;

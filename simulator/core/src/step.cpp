@@ -1,4 +1,5 @@
-// Forces and time integration (report eqs. 1-7). Nothing here allocates after make_workspace().
+// Forces and time integration (report eqs. 1-7). Nothing here allocates after make_workspace(),
+// but once per thread count (the threads' shares of springs and collision runs).
 #include <clothsim/step.hpp>
 #include <clothsim/integrators.hpp>
 
