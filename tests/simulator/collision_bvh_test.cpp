@@ -269,15 +269,26 @@ TEST(CollisionBvh, CandidateCacheEqualsBruteForceUnderMonotonicMotion) {
   }
 }
 
-TEST(CollisionBvh, CandidateCacheTiesAndReachOnAFlatGrid) {
-  // A flat grid: above vertices and edges several triangles are exactly equally far (ties go
-  // to the lowest index). Points slide along the grid lines and diagonals, and move up and
-  // down through the reach (2 eps) so that they leave and re-enter it.
+namespace {
+
+// The floor grid of the tie tests: 16 x 16 cells of kGridCell on the plane y = 0.
+constexpr double kGridCell = 2.0 / 16;
+ColliderSet flat_grid() {
   ColliderSet set;
   const auto fl = clothsim::meshes::floor_grid(16, 1.0, 0.0);
   set.add_object("floor", fl.vertices, fl.indices);
   set.build();
-  const double cell = 2.0 / 16;
+  return set;
+}
+
+}  // namespace
+
+TEST(CollisionBvh, CandidateCacheTiesAndReachOnAFlatGrid) {
+  // A flat grid: above vertices and edges several triangles are exactly equally far (ties go
+  // to the lowest index). Points slide along the grid lines and diagonals, and move up and
+  // down through the reach (2 eps) so that they leave and re-enter it.
+  const ColliderSet set = flat_grid();
+  const double cell = kGridCell;
   Eigen::Matrix3Xd x(3, 0);
   std::vector<Vector3d> starts, vel;
   for (int i = 0; i < 12; ++i)
@@ -346,11 +357,8 @@ TEST(CollisionBvh, CachedPenaltyOnEdgesAtRestAndInRanges) {
   // 1e-9 .. 1e-6 m, as cloth at rest does. Forces and stats are bit-identical to brute
   // force; the ties are certified without a search; and splitting the points into ranges
   // that share one cache (as threads do) changes nothing.
-  ColliderSet set;
-  const auto fl = clothsim::meshes::floor_grid(16, 1.0, 0.0);
-  set.add_object("floor", fl.vertices, fl.indices);
-  set.build();
-  const double cell = 2.0 / 16;
+  const ColliderSet set = flat_grid();
+  const double cell = kGridCell;
   Eigen::Matrix3Xd x(3, 0);
   std::vector<Vector3d> pts;
   for (int i = 0; i < 10; ++i)
