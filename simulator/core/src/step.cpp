@@ -89,13 +89,12 @@ SpringAdjacency SpringAdjacency::build(const Model& model) {
 }
 
 /// The gathered springs on several threads, blocked as on one. Thread t owns the masses
-/// [mass_start[t], mass_start[t+1]), cut into chunks of at most kBlock masses. A spring is
+/// [n t / threads, n (t + 1) / threads), cut into chunks of at most kBlock masses. A spring is
 /// computed by the thread of its lower mass: in the chunk of that mass (`local`), just before
 /// the chunk's masses gather, or, when its other mass belongs to a later thread, before the
 /// barrier (`out`), so that the later thread finds it done. Each spring is written once.
 struct SpringSplit {
   int threads = 0;                         ///< made for this many threads (0: not yet)
-  std::vector<std::size_t> mass_start;     ///< (threads + 1)
   std::vector<std::uint32_t> chunk_start;  ///< (threads + 1) each thread's first chunk
   std::vector<std::uint32_t> chunk_mass;   ///< (chunks + 1) each chunk's first mass, then n
   std::vector<std::uint32_t> local_start, local;  ///< (chunks + 1), springs by chunk
@@ -104,14 +103,11 @@ struct SpringSplit {
   void make(const Model& model, int nt) {
     const std::size_t n = model.mass_count(), sc = model.spring_count();
     const auto parts = static_cast<std::size_t>(nt);
-    mass_start.assign(parts + 1, 0);
     chunk_start.assign(parts + 1, 0);
     chunk_mass.clear();
-    for (std::size_t t = 0; t < parts; ++t) {
-      mass_start[t] = n * t / parts;
-      mass_start[t + 1] = n * (t + 1) / parts;
+    for (std::size_t t = 0; t < parts; ++t) {  // thread t: masses [n t / parts, n (t + 1) / parts)
       chunk_start[t] = static_cast<std::uint32_t>(chunk_mass.size());
-      for (std::size_t i = mass_start[t]; i < mass_start[t + 1]; i += SpringAdjacency::kBlock)
+      for (std::size_t i = n * t / parts; i < n * (t + 1) / parts; i += SpringAdjacency::kBlock)
         chunk_mass.push_back(static_cast<std::uint32_t>(i));
     }
     chunk_start[parts] = static_cast<std::uint32_t>(chunk_mass.size());
@@ -516,8 +512,7 @@ void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::
         if (cs.seconds[t - 1] > 1.1 * cs.seconds[t] && cs.bound[t] > cs.bound[t - 1]) --cs.bound[t];
         else if (cs.seconds[t] > 1.1 * cs.seconds[t - 1] && cs.bound[t] < cs.bound[t + 1]) ++cs.bound[t];
       }
-      const auto& runs = cs.runs;
-      for (const auto& run : runs) {
+      for (const auto& run : cs.runs) {
         stats.max_penetration = std::max(stats.max_penetration, run.max_penetration);
         stats.contacts += run.contacts;
       }
