@@ -687,6 +687,17 @@ constexpr std::uint8_t kRetry = 8;
 // Objects with more triangles than this keep a copy of each entry's first candidate in the
 // cache (a small collider stays in cache; the copy would only add memory traffic).
 constexpr std::size_t kCopyAbove = 4096;
+
+// A certificate's rounding margin at p (far below any useful gap) and how far p is from where
+// the certificate was made: every check of it computes both this way, so that they all make
+// the same decisions.
+inline double certificate_margin(const double p[3], double scale) {
+  return 1e-10 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + scale);
+}
+inline double moved_from(const double p[3], const double x0[3]) {
+  const double dx = p[0] - x0[0], dy = p[1] - x0[1], dz = p[2] - x0[2];
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
 }  // namespace
 
 bool ColliderSet::out_of_reach(std::size_t o, const double p[3], double radius_sq) const {
@@ -706,10 +717,8 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
   const bool use_copy = ob.kept > kCopyAbove;
   const double* first = cache.firsts.data() + 12 * ei;
   // Rounding of the computed distances, far below any useful gap.
-  const double m =
-      1e-10 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
-  const double dx = p[0] - e.x0[0], dy = p[1] - e.x0[1], dz = p[2] - e.x0[2];
-  const double moved = std::sqrt(dx * dx + dy * dy + dz * dz);
+  const double m = certificate_margin(p, ob.scale);
+  const double moved = moved_from(p, e.x0);
   // Every candidate is now >= lower - moved away, every other triangle >= others_lb - moved.
   // Evaluate the candidates nearest first until the rest cannot win or tie (or reach).
   double best = std::numeric_limits<double>::infinity(), best_s = 0.0, stop = std::sqrt(radius_sq);
@@ -788,10 +797,8 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
   if (e.count < 0) return false;
   const Object& ob = objects_[o];
   // The same m, moved and comparisons as query_cached(): the same decisions.
-  const double m =
-      1e-10 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
-  const double dx = p[0] - e.x0[0], dy = p[1] - e.x0[1], dz = p[2] - e.x0[2];
-  const double moved = std::sqrt(dx * dx + dy * dy + dz * dz);
+  const double m = certificate_margin(p, ob.scale);
+  const double moved = moved_from(p, e.x0);
   const double reach = std::sqrt(radius_sq);
   if (e.count == 0) {  // nothing was in reach: still none while L - moved stays beyond reach
     if (!(reach + moved + m < e.others_lb)) return false;
@@ -865,8 +872,7 @@ ColliderHit ColliderSet::renew_cached(std::size_t o, const double p[3], double r
   std::uint32_t* cs = cache.slots.data() + ei * cache.candidates();
   float* cl = cache.lower.data() + ei * cache.candidates();
   const bool use_copy = ob.kept > kCopyAbove;
-  const double m =
-      1e-10 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + ob.scale);
+  const double m = certificate_margin(p, ob.scale);
   const auto set_first = [&] {
     e.tri_index = orig_[cs[0]];
     if (use_copy) {
