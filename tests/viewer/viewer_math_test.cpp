@@ -141,6 +141,17 @@ TEST(StepClock, IgnoresBadElapsedTimes) {
   EXPECT_LE(clock.steps_due(1e9, 1e-6), 25);  // a stall is not caught up
 }
 
+TEST(Renderer, SoftwareRenderersAreRecognised) {
+  EXPECT_TRUE(cv::software_renderer("llvmpipe (LLVM 15.0.6, 256 bits)"));
+  EXPECT_TRUE(cv::software_renderer("softpipe"));
+  EXPECT_TRUE(cv::software_renderer("Google SwiftShader"));
+  EXPECT_TRUE(cv::software_renderer("Microsoft Basic Render Driver (Software)"));
+  EXPECT_FALSE(cv::software_renderer("NVIDIA GeForce RTX 3060/PCIe/SSE2"));
+  EXPECT_FALSE(cv::software_renderer("AMD Radeon Graphics (radeonsi, gfx1103, LLVM 15.0.6)"));
+  EXPECT_FALSE(cv::software_renderer("Mesa Intel(R) UHD Graphics 620 (KBL GT2)"));
+  EXPECT_FALSE(cv::software_renderer(""));
+}
+
 TEST(ClothMesh, FlatClothNormalsPointAlongTheWinding) {
   clothsim::testing::HandScene h(6, 1.0f, 1.0f);
   const clothsim::Model model = hand_model(h);

@@ -199,9 +199,9 @@ bool RenderTarget::resize(int w, int h) {
   release();
   width = w;
   height = h;
-  GLint max_samples = 0;
-  glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
-  const GLsizei samples = std::min(4, static_cast<int>(max_samples));
+  GLint gl_max = 0;
+  glGetIntegerv(GL_MAX_SAMPLES, &gl_max);
+  const GLsizei samples = std::max(0, std::min(max_samples, static_cast<int>(gl_max)));
   auto make = [&](GLuint& fbo, GLuint& color, GLuint& depth, GLsizei n) {
     glGenFramebuffers(1, &fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);

@@ -27,8 +27,8 @@ struct RenderFlags {
   Eigen::Vector3d drag_target = Eigen::Vector3d::Zero();
 };
 
-/// Where every frame is drawn: a 4x multisampled FBO resolved into a plain one, which is
-/// read for PNGs and blitted to the window.
+/// Where every frame is drawn: a multisampled FBO (4x unless `max_samples` says fewer) resolved
+/// into a plain one, which is read for PNGs and blitted to the window.
 class RenderTarget {
  public:
   RenderTarget() = default;
@@ -43,6 +43,10 @@ class RenderTarget {
   std::vector<unsigned char> read_rgb() const;  ///< top row first
 
   int width = 0, height = 0;
+  /// Samples per pixel at most, set before resize(): 4 (the GL's limit if lower); 0 (no
+  /// multisampling) for an interactive window on a software renderer, where 4x costs ~15 ms a
+  /// frame (llvmpipe, 1280x720).
+  int max_samples = 4;
 
  private:
   void release();

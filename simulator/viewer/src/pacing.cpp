@@ -1,13 +1,23 @@
 #include <clothsim/view/pacing.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <string>
 
 namespace clothsim::view {
 
 namespace {
 // A longer gap between frames (a stall: window moved, process stopped) is not caught up.
 constexpr double kMaxFrameGap = 0.25;
+}
+
+bool software_renderer(std::string_view gl_renderer) {
+  std::string r(gl_renderer);
+  for (char& c : r) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* name : {"llvmpipe", "softpipe", "software", "swiftshader", "swrast", "lavapipe"})
+    if (r.find(name) != std::string::npos) return true;
+  return false;
 }
 
 long StepClock::steps_due(double elapsed_wall, double step_cost) {

@@ -2,7 +2,13 @@
 // can be tested without a clock.
 #pragma once
 
+#include <string_view>
+
 namespace clothsim::view {
+
+/// Whether a GL_RENDERER string names a renderer that draws on the CPU (Mesa's llvmpipe and
+/// softpipe, SwiftShader, ...): there every frame's pixels cost the simulation CPU time.
+bool software_renderer(std::string_view gl_renderer);
 
 class StepClock {
  public:
