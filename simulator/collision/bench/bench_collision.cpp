@@ -99,12 +99,12 @@ void BM_BvhHints(benchmark::State& s) {
 // forth between two configurations would never expire it). range(1): step in um (1: at rest,
 // 200: 0.1 m/s at dt 0.002, 1000: 1 mm per call); range(2): 0 = BVH + hints, K >= 1 = a
 // ContactCache with K candidates (1: the single-triangle certificate of earlier versions).
-void BM_Moving(benchmark::State& state) {
+void moving(benchmark::State& state, double eps) {
   const auto& set = sphere(static_cast<int>(state.range(0)));
   const double step = 1e-6 * static_cast<double>(state.range(1));
   const auto k = static_cast<std::size_t>(state.range(2));
   const int n = 4096;
-  Eigen::Matrix3Xd x = shell_points(n, 1.0 - 1.5 * kEps, 1.0 + 1.5 * kEps, 42);
+  Eigen::Matrix3Xd x = shell_points(n, 1.0 - 1.5 * eps, 1.0 + 1.5 * eps, 42);
   const double mean_rho = x.bottomRows(2).colwise().norm().mean();
   const double angle = step / mean_rho;
   const Eigen::Matrix3d rot = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()).toRotationMatrix();
@@ -117,18 +117,18 @@ void BM_Moving(benchmark::State& state) {
   // Warm up: 20 moving calls (the lists and certificates get their steady mix of ages).
   for (int w = 0; w < 20; ++w) {
     x = rot * x;
-    if (k > 0) accumulate_penalty(set, x, kEps, kRep, f, stats, cache);
-    else accumulate_penalty(set, x, kEps, kRep, f, stats, h);
+    if (k > 0) accumulate_penalty(set, x, eps, kRep, f, stats, cache);
+    else accumulate_penalty(set, x, eps, kRep, f, stats, h);
   }
   for (auto _ : state) {
     state.PauseTiming();
     x = rot * x;
     state.ResumeTiming();
     if (k > 0) {
-      accumulate_penalty(set, x, kEps, kRep, f, stats, cache);
+      accumulate_penalty(set, x, eps, kRep, f, stats, cache);
       certified += stats.certified;
     } else {
-      accumulate_penalty(set, x, kEps, kRep, f, stats, h);
+      accumulate_penalty(set, x, eps, kRep, f, stats, h);
     }
     contacts += stats.contacts;
     benchmark::DoNotOptimize(f.data());
@@ -146,6 +146,16 @@ void MovingArgs(benchmark::internal::Benchmark* b) {
   for (int level = 3; level <= 8; ++level)
     for (int step : {1, 200, 1000})
       for (int k : {0, 1, 8, 16, 32}) b->Args({level, step, k});
+}
+void BM_Moving(benchmark::State& state) { moving(state, kEps); }
+// BM_Moving with the band eps = range(3) mm (points in +-1.5 eps): what the cost owes to the
+// band's width against the triangles' (level 6: edges ~19 mm, level 8: ~5 mm). A wide band
+// holds many nearly equidistant triangles, so certificates break sooner and searches visit more.
+void BM_MovingBand(benchmark::State& state) { moving(state, 1e-3 * static_cast<double>(state.range(3))); }
+void MovingBandArgs(benchmark::internal::Benchmark* b) {
+  for (int level = 3; level <= 8; ++level)
+    for (int k : {0, 16})
+      for (int eps_mm : {5, 10, 20, 50, 100}) b->Args({level, 200, k, eps_mm});
 }
 void BM_BvhHintsShuffled(benchmark::State& s) {  // no memory coherence between points
   run(s, clothsim::QueryMethod::Bvh, true, 4096, 1.0 - 1.5 * kEps, 1.0 + 1.5 * kEps, false);
@@ -208,6 +218,7 @@ BENCHMARK(BM_BruteForce)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Bvh)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BvhHints)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Moving)->Apply(MovingArgs)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_MovingBand)->Apply(MovingBandArgs)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BvhHintsShuffled)->DenseRange(3, 8)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BvhFar)->Arg(6)->Unit(benchmark::kMicrosecond);
 
