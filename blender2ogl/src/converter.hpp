@@ -167,12 +167,18 @@ struct OutputFile {
 std::vector<OutputFile> emit_scene(const Scene& scene, const Options& options);
 
 /// Writes all files atomically into `dir` (temp files, then renames; unchanged files are
-/// left alone). Returns how many files changed.
-int write_outputs(const std::filesystem::path& dir, const std::vector<OutputFile>& files);
+/// left alone), with `extra` files at their own paths (the depfile) in the same commit,
+/// published before the header. A character device or FIFO in an output's place is written
+/// into (never renamed over); any other non-regular file there is refused before anything is
+/// written. Returns how many files were replaced.
+int write_outputs(const std::filesystem::path& dir, const std::vector<OutputFile>& files,
+                  const std::vector<std::pair<std::filesystem::path, std::string>>& extra = {});
 
 /// Deletes `<name>.<hash>.bin` files in `dir` that are not in `keep` (older bakes' bulk data,
 /// after the new header is in place) and temp files of `name`'s outputs left by a killed run.
-void remove_stale_bins(const std::filesystem::path& dir, const std::string& name, const std::vector<OutputFile>& keep);
+/// Files in `protect` (the inputs) are never deleted.
+void remove_stale_bins(const std::filesystem::path& dir, const std::string& name, const std::vector<OutputFile>& keep,
+                       const std::vector<std::filesystem::path>& protect = {});
 
 /// FNV-1a 64 of bytes, as 16 hex digits.
 std::string hash_hex(const std::string& bytes);

@@ -31,18 +31,21 @@ int run(const Options& opt, std::ostream& log) {
   const auto files = emit_scene(scene, opt);
   scene.timings_ms.emplace_back("emit", lap_ms(t1));
   const std::filesystem::path dir = opt.target_dir.empty() ? opt.input.parent_path() : opt.target_dir;
-  const int changed = write_outputs(dir.empty() ? std::filesystem::path(".") : dir, files);
-  remove_stale_bins(dir.empty() ? std::filesystem::path(".") : dir, scene.name, files);
-  scene.timings_ms.emplace_back("write", lap_ms(t1));
-
+  const std::filesystem::path out_dir = dir.empty() ? std::filesystem::path(".") : dir;
+  // The depfile is part of the commit: written to a temp file with the others and renamed
+  // before the header, so a depfile that cannot be written changes nothing.
+  std::vector<std::pair<std::filesystem::path, std::string>> extra;
   if (!opt.depfile.empty()) {
     // Makefile syntax for the build tool: the header depends on every file read.
     std::string text = depfile_escape((std::filesystem::absolute(dir) / files.front().name).string()) + ":";
     for (const auto& p : scene.inputs_read) text += " \\\n  " + depfile_escape(p.string());
     text += "\n";
-    write_outputs(opt.depfile.parent_path().empty() ? "." : opt.depfile.parent_path(),
-                  {{opt.depfile.filename().string(), text}});
+    extra.emplace_back(opt.depfile, std::move(text));
   }
+  const int changed = write_outputs(out_dir, files, extra);
+  remove_stale_bins(out_dir, scene.name, files, scene.inputs_read);
+  scene.timings_ms.emplace_back("write", lap_ms(t1));
+
   if (opt.combined && scene.positions.size() / 3 > 100000)
     scene.warnings.push_back(opt.input.string() + ": " + std::to_string(scene.positions.size() / 3) +
                              " vertices as text (-c) compile slowly; the default (-s) links them as bytes");
@@ -68,7 +71,7 @@ int run(const Options& opt, std::ostream& log) {
         << "  springs    " << structural + bend << " (" << structural << " structural, " << bend << " bend)\n"
         << "  pins       " << pins << "\n"
         << "  warnings   " << scene.warnings.size() << "\n"
-        << "  files      " << files.size() << " (" << changed << " changed, " << bytes << " bytes)\n"
+        << "  files      " << files.size() + extra.size() << " (" << changed << " changed, " << bytes << " bytes)\n"
         << "  time       " << ms << " ms (";
     for (std::size_t i = 0; i < scene.timings_ms.size(); ++i)
       log << (i ? ", " : "") << scene.timings_ms[i].first << " " << static_cast<long>(scene.timings_ms[i].second);

@@ -205,3 +205,66 @@ TEST(Cli, FolderInAnOutputsPlaceChangesNothing) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace b2o::test;
+
+const char* kTriangle = "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+const char* kTriangle2 = "o Cloth\nv 0 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\n";
+
+// A depfile that cannot be written (a folder in its place, a folder where no file can be made)
+// fails the run before anything is committed: the old outputs stay, nothing is created.
+TEST(Cli, DepfileFailureChangesNothing) {
+  const auto dir = scratch("cli_depfile_fail");
+  write_file(dir / "m.obj", kTriangle);
+  ASSERT_EQ(run_converter({"-a", "Cloth", "-t", (dir / "out").string(), (dir / "m.obj").string()}).exit_code, 0);
+  write_file(dir / "m.obj", kTriangle2);
+  fs::create_directory(dir / "dd2");
+  const auto before = snapshot(dir);
+  for (const fs::path& dep : {dir / "dd2", fs::path("/proc/b2o_no_such.d"), dir / "m.obj" / "x.d"}) {
+    const auto r = run_converter({"-a", "Cloth", "--depfile", dep.string(), "-t", (dir / "out").string(),
+                                  (dir / "m.obj").string()});
+    EXPECT_EQ(r.exit_code, 1) << dep << "\n" << r.output;
+    EXPECT_NE(r.output.find(dep.string() + ": cannot write"), std::string::npos) << r.output;
+    EXPECT_TRUE(snapshot(dir) == before) << dep;
+    int entries = 0;
+    for (const auto& e : fs::directory_iterator(dir / "out")) entries += e.path().filename() != "";
+    EXPECT_EQ(entries, 4) << dep;  // no temp file left
+  }
+  // a depfile in a missing folder: the folder is made with the outputs
+  const auto r = run_converter({"-a", "Cloth", "--depfile", (dir / "deps" / "m.d").string(), "-t",
+                                (dir / "out").string(), (dir / "m.obj").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(read_file(dir / "deps" / "m.d").find((dir / "m.obj").string()), std::string::npos);
+}
+
+// `--depfile /dev/null` (and any character device or FIFO in an output's place) is written
+// into, never replaced by a regular file. (Tested with a device node of its own, not the real
+// /dev/null.)
+TEST(Cli, CharacterDeviceOutputIsWrittenIntoNotReplaced) {
+  const auto dir = scratch("cli_devnull");
+  const fs::path null = dir / "mynull";
+  if (run_command("mknod -m 666 " + shell_quote(null.string()) + " c 1 3").exit_code != 0 ||
+      !fs::is_character_file(null))
+    GTEST_SKIP() << "mknod not permitted";
+  write_file(dir / "m.obj", kTriangle);
+  auto r = run_converter({"-a", "Cloth", "--depfile", null.string(), "-t", (dir / "out").string(),
+                          (dir / "m.obj").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::is_character_file(fs::symlink_status(null)));
+  EXPECT_TRUE(fs::exists(dir / "out" / "m.h"));
+  // the same for a generated file: the device stays, the others are written
+  fs::remove(dir / "out" / "m.S");
+  ASSERT_EQ(run_command("mknod -m 666 " + shell_quote((dir / "out" / "m.S").string()) + " c 1 3").exit_code, 0);
+  write_file(dir / "m.obj", kTriangle2);
+  r = run_converter({"-a", "Cloth", "-t", (dir / "out").string(), (dir / "m.obj").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::is_character_file(fs::symlink_status(dir / "out" / "m.S")));
+  for (const auto& e : fs::directory_iterator(dir / "out"))
+    EXPECT_NE(e.path().filename().string()[0], '.') << "temp file left: " << e.path();
+  fs::remove(null);
+  fs::remove(dir / "out" / "m.S");
+}
+
+}  // namespace
