@@ -18,6 +18,25 @@ std::string depfile_escape(const std::string& p) {
   return out;
 }
 
+// Refuses an output that is one of the inputs (`--depfile m.obj`, `mtllib m.h` in the target
+// folder): by identity (same file, through links) when it exists, else by canonical path.
+void check_outputs_are_not_inputs(const std::vector<std::filesystem::path>& outputs,
+                                  const std::vector<std::filesystem::path>& inputs) {
+  namespace fs = std::filesystem;
+  for (const fs::path& out : outputs) {
+    std::error_code ec;
+    const bool exists = fs::exists(out, ec);
+    const fs::path canon = fs::weakly_canonical(fs::absolute(out, ec), ec);
+    for (const fs::path& in : inputs) {
+      std::error_code ec2;
+      const bool same = exists ? fs::equivalent(out, in, ec2) : canon == fs::weakly_canonical(in, ec2);
+      if (same)
+        throw UsageError(out.string() + ": an output would overwrite the input " + in.string() +
+                         "; choose another target folder (-t), name (-n) or --depfile");
+    }
+  }
+}
+
 }  // namespace
 
 int run(const Options& opt, std::ostream& log) {
@@ -41,6 +60,12 @@ int run(const Options& opt, std::ostream& log) {
     for (const auto& p : scene.inputs_read) text += " \\\n  " + depfile_escape(p.string());
     text += "\n";
     extra.emplace_back(opt.depfile, std::move(text));
+  }
+  {
+    std::vector<std::filesystem::path> outputs;
+    for (const OutputFile& f : files) outputs.push_back(out_dir / f.name);
+    if (!opt.depfile.empty()) outputs.push_back(opt.depfile);
+    check_outputs_are_not_inputs(outputs, scene.inputs_read);
   }
   const int changed = write_outputs(out_dir, files, extra);
   remove_stale_bins(out_dir, scene.name, files, scene.inputs_read);

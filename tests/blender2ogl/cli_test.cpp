@@ -268,3 +268,45 @@ TEST(Cli, CharacterDeviceOutputIsWrittenIntoNotReplaced) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace b2o::test;
+
+// An output that is one of the inputs (the model, its .mtl, a texture), by name or through a
+// link, is refused before anything is written.
+TEST(Cli, OutputsNeverOverwriteInputs) {
+  const auto dir = scratch("cli_output_is_input");
+  const std::string obj = "mtllib m.h\no Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl M\nf 1 2 3\n";
+  const std::string mtl = "newmtl M\nKd 1 0 0\nmap_Kd tex.png\n";
+  write_file(dir / "m.obj", obj);
+  write_file(dir / "m.h", mtl);  // the material library, named like the generated header
+  write_file(dir / "tex.png", "PNG");
+  fs::create_symlink(dir / "m.obj", dir / "link.d");
+  const auto before = snapshot(dir);
+  auto check = [&](const std::vector<std::string>& args, const std::string& output, const std::string& input) {
+    const auto r = run_converter(args);
+    EXPECT_NE(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find(output + ": an output would overwrite the input " + input), std::string::npos) << r.output;
+    EXPECT_TRUE(snapshot(dir) == before);
+    EXPECT_EQ(read_file(dir / "m.obj"), obj);
+    EXPECT_EQ(read_file(dir / "m.h"), mtl);
+  };
+  const std::string m = (dir / "m.obj").string();
+  // the generated header in the model's folder is the .mtl
+  check({m}, (dir / "m.h").string(), (dir / "m.h").string());
+  check({"-t", dir.string(), m}, (dir / "m.h").string(), (dir / "m.h").string());
+  // --depfile naming the model, a texture, or a link to the model
+  check({"-n", "x", "--depfile", m, "-t", (dir / "out").string(), m}, m, m);
+  check({"-n", "x", "--depfile", (dir / "tex.png").string(), "-t", (dir / "out").string(), m},
+        (dir / "tex.png").string(), (dir / "tex.png").string());
+  check({"-n", "x", "--depfile", (dir / "link.d").string(), "-t", (dir / "out").string(), m},
+        (dir / "link.d").string(), m);
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  // another name is fine
+  const auto r = run_converter({"-n", "x", "--depfile", (dir / "x.d").string(), m});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_file(dir / "m.h"), mtl);
+}
+
+}  // namespace
