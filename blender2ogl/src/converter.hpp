@@ -114,6 +114,8 @@ struct Scene {
   /// Points of `<OBJECT>_pins` helper objects (x y z ...), keyed by the helper's name;
   /// the helpers themselves are not emitted.
   std::map<std::string, std::vector<float>> pin_points;
+  /// OBJ: the lines where an object of each name starts (to tell a name given twice).
+  std::map<std::string, std::vector<std::size_t>> object_lines;
 };
 
 /// Milliseconds since `t0`, and resets `t0`.

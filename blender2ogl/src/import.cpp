@@ -157,6 +157,8 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
       out.warnings.push_back(file.string() + ": " + std::to_string(scan.lines_points) +
                              " line/point elements ignored (only faces are drawn)");
     out.pin_points = scan.pin_points;
+    out.object_lines = scan.object_lines;
+    out.warnings.insert(out.warnings.end(), scan.warnings.begin(), scan.warnings.end());
   }
 
   Assimp::Importer importer;

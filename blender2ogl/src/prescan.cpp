@@ -92,6 +92,9 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
 
   std::size_t line_no = 0;
   std::string current_group;
+  // assimp's OBJ state, to catch names it would resolve to the wrong object: the object that
+  // takes faces (the last `o`/`g` that made or found one) and the active group (`g` only).
+  std::string current_object, active_group;
   bool in_pin_object = false;
   std::string joined;
   std::vector<std::string_view> tok;
@@ -226,6 +229,35 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
         fail(file, start_line, "object name longer than 1023 bytes (" + std::to_string(current_group.size()) + "): " +
                                    quote_input(current_group));
       in_pin_object = is_pin_object_name(current_group);
+      // Repeated names. assimp 5.2.5 finds an `o` name it has seen (from `o` or `g`) and makes
+      // that object current but keeps adding faces to the mesh before it, so they land in the
+      // previous object; a `g` equal to the active group is ignored, so after an `o` in
+      // between its faces land in that `o`'s object. Both are refused. A `g` repeated after
+      // another group makes a second object of that name (its faces are right): a warning.
+      const std::string& name = current_group;
+      auto seen = scan.object_lines.find(name);
+      const std::string first =
+          seen == scan.object_lines.end() ? "" : " (first at line " + std::to_string(seen->second.front()) + ")";
+      if (name.empty() || name == current_object) {
+        // a continuation (an empty name is left to assimp as before)
+      } else if (key == "o") {
+        if (seen != scan.object_lines.end())
+          fail(file, start_line, "object name " + quote_input(name) + " repeated" + first +
+                                     ": assimp would give its faces to " + quote_input(current_object) +
+                                     "; give each object its own name");
+        scan.object_lines[name].push_back(start_line);
+        current_object = name;
+      } else if (name == active_group) {
+        fail(file, start_line, "group " + quote_input(name) + " repeated" + first + " after object " +
+                                   quote_input(current_object) + ": assimp would give its faces to " +
+                                   quote_input(current_object) + "; give each object its own name");
+      } else {
+        if (seen != scan.object_lines.end())
+          scan.warnings.push_back(file.string() + ":" + std::to_string(start_line) + ": group " + quote_input(name) +
+                                  " repeated" + first + ": kept as another object of the same name");
+        scan.object_lines[name].push_back(start_line);
+        current_object = active_group = name;
+      }
     } else if (key == "mtllib") {
       // A name may hold spaces; assimp takes the rest of the line.
       const std::string_view body = body_all.substr(0, end);

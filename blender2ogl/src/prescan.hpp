@@ -14,6 +14,10 @@ struct ObjScan {
   /// Vertices written under an `o`/`g` named `<OBJECT>_pins` or `<OBJECT>.pins` (x y z ...):
   /// assimp drops objects without faces, so pin helpers made of loose vertices are read here.
   std::map<std::string, std::vector<float>> pin_points;
+  /// The lines where an object of each name starts (a name on several lines: repeated `g`).
+  std::map<std::string, std::vector<std::size_t>> object_lines;
+  /// "file:line: what" (reported as warnings)
+  std::vector<std::string> warnings;
 };
 
 /// Throws InputError ("file:line: what") on text assimp would misread.

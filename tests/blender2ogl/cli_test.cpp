@@ -310,3 +310,59 @@ TEST(Cli, OutputsNeverOverwriteInputs) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace b2o::test;
+
+std::string three_objects(const char* first, const char* second, const char* third) {
+  return std::string(first) + " A\nv 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n" + second +
+         " B\nv 5 5 5\nv 6 5 5\nv 6 6 5\nf 4 5 6\n" + third + " A\nv 9 9 9\nv 8 9 9\nv 8 8 9\nf 7 8 9\n";
+}
+
+// assimp gives the faces of a repeated `o` name (and of a `g` repeated after an `o`) to the
+// object before it: refused at the repeated line. A `g` repeated after another group is a
+// second object of that name (warned); choosing it by that name with -a is an error naming both
+// lines, by its identifier it works.
+TEST(Cli, RepeatedObjectNamesNeverMoveGeometry) {
+  const auto dir = scratch("cli_repeated_names");
+  write_file(dir / "o.obj", three_objects("o", "o", "o"));
+  auto r = run_converter({"-a", "B", "-t", (dir / "out").string(), (dir / "o.obj").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "o.obj").string() + ":11: object name 'A' repeated (first at line 1)"),
+            std::string::npos)
+      << r.output;
+  write_file(dir / "m.obj", three_objects("g", "o", "g"));
+  r = run_converter({"-a", "B", "-t", (dir / "out").string(), (dir / "m.obj").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "m.obj").string() + ":11: group 'A' repeated (first at line 1) after object 'B'"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+
+  write_file(dir / "g.obj", three_objects("g", "g", "g"));
+  const std::string g = (dir / "g.obj").string();
+  r = run_converter({"-a", "A", "-t", (dir / "out").string(), g});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find(g + ": -a 'A': 2 objects are named 'A' (" + g + ":1, " + g + ":11)"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  r = run_converter({"-a", "B", "-t", (dir / "out").string(), g});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: " + g + ":11: group 'A' repeated (first at line 1)"), std::string::npos) << r.output;
+
+  b2o::conv::Options opt;
+  opt.input = dir / "g.obj";
+  opt.cloth_objects = {"A_2"};
+  const auto s = convert(opt);
+  ASSERT_EQ(s.objects.size(), 3u);
+  ASSERT_EQ(s.cloths.size(), 1u);
+  EXPECT_EQ(s.cloths[0].object, 2u);
+  EXPECT_EQ(s.cloths[0].rest_positions[0], 9.0f);
+  opt.cloth_objects = {"B"};
+  const auto sb = convert(opt);
+  EXPECT_EQ(sb.cloths[0].triangles.size(), 3u);
+  EXPECT_EQ(sb.cloths[0].rest_positions[0], 5.0f);
+}
+
+}  // namespace
