@@ -1,5 +1,7 @@
 // import: the only code that parses model files (through assimp, after a light text check of .obj).
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
+#include <assimp/MemoryIOWrapper.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
@@ -47,6 +49,38 @@ Material read_material(const aiMaterial& m) {
     throw std::runtime_error("material " + quote_input(out.name) + " has a non-finite value");
   return out;
 }
+
+// What assimp reads: the model as the pre-scan cleaned it (when it did), and .obj/.mtl files
+// without a UTF-8 byte-order mark (assimp 5.2.5 would take it as part of the first statement).
+// Other files, and relative paths (mtllib, textures), go through the default file system.
+class CheckedIO : public Assimp::DefaultIOSystem {
+ public:
+  CheckedIO(std::filesystem::path model, const std::string* model_text) : model_(std::move(model)), text_(model_text) {}
+  Assimp::IOStream* Open(const char* path, const char* mode) override {
+    const std::string m = mode == nullptr ? "rb" : mode;
+    const bool reading = m.find_first_of("wa+") == std::string::npos;
+    std::error_code ec;
+    if (reading && text_ != nullptr && std::filesystem::equivalent(path, model_, ec))
+      return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(text_->data()), text_->size());
+    Assimp::IOStream* s = DefaultIOSystem::Open(path, mode);
+    const std::string ext = lower(std::filesystem::path(path).extension().string());
+    if (s == nullptr || !reading || (ext != ".obj" && ext != ".mtl")) return s;
+    const std::size_t size = s->FileSize();
+    char head[3] = {0, 0, 0};
+    if (size < 3 || s->Read(head, 1, 3) != 3 || std::memcmp(head, "\xEF\xBB\xBF", 3) != 0) {
+      s->Seek(0, aiOrigin_SET);
+      return s;
+    }
+    auto* bytes = new std::uint8_t[size - 3 + 1];
+    const std::size_t got = size > 3 ? s->Read(bytes, 1, size - 3) : 0;
+    DefaultIOSystem::Close(s);
+    return new Assimp::MemoryIOStream(bytes, got, true);
+  }
+
+ private:
+  std::filesystem::path model_;
+  const std::string* text_;
+};
 
 // `<OBJECT>_pins` helpers become pin points and leave the scene (their vertices too).
 void remove_pin_helpers(Scene& s) {
@@ -162,6 +196,7 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
   }
 
   Assimp::Importer importer;
+  importer.SetIOHandler(new CheckedIO(file, scan.cleaned ? &scan.clean_text : nullptr));
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* ai = importer.ReadFile(file.string(), import_flags());
   if (ai == nullptr) {

@@ -88,7 +88,13 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   std::string_view rest(text);
   if (rest.size() >= 2 && ((rest[0] == '\xFE' && rest[1] == '\xFF') || (rest[0] == '\xFF' && rest[1] == '\xFE')))
     fail(file, 1, "UTF-16 text is not supported; save the file as UTF-8 (Blender does)");
-  if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);
+  // A UTF-8 byte-order mark: assimp would read it as part of the first statement (and drop
+  // that statement); it gets the text without it.
+  std::vector<std::pair<std::size_t, std::size_t>> cuts;  // (offset, length) left out for assimp
+  if (rest.substr(0, 3) == "\xEF\xBB\xBF") {
+    rest.remove_prefix(3);
+    cuts.emplace_back(0, 3);
+  }
 
   std::size_t line_no = 0;
   std::string current_group;
@@ -268,6 +274,16 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       scan.mtllib_lines.push_back(start_line);
     }
   }
+  if (!cuts.empty()) {
+    scan.cleaned = true;
+    scan.clean_text.reserve(text.size());
+    std::size_t from = 0;
+    for (const auto& [at, length] : cuts) {
+      scan.clean_text.append(text, from, at - from);
+      from = at + length;
+    }
+    scan.clean_text.append(text, from, std::string::npos);
+  }
   if (scan.positions == 0) throw InputError(file.string() + ": no vertices (empty or not an OBJ file)");
   if (scan.faces == 0) throw InputError(file.string() + ": no faces: nothing to draw (points and lines are not supported)");
   return scan;
@@ -282,6 +298,8 @@ std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file) {
   bool in_material = false;
   while (std::getline(in, line)) {
     ++line_no;
+    // a UTF-8 byte-order mark (assimp is given the file without it)
+    if (line_no == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
     std::vector<std::string_view> tok;
     std::size_t start = std::string::npos;
     for (std::size_t i = 0; i <= line.size(); ++i) {

@@ -18,6 +18,10 @@ struct ObjScan {
   std::map<std::string, std::vector<std::size_t>> object_lines;
   /// "file:line: what" (reported as warnings)
   std::vector<std::string> warnings;
+  /// The bytes assimp is given instead of the file's when they differ (a UTF-8 byte-order
+  /// mark removed); empty: the file as it is.
+  std::string clean_text;
+  bool cleaned = false;
 };
 
 /// Throws InputError ("file:line: what") on text assimp would misread.

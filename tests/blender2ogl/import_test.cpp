@@ -196,3 +196,29 @@ TEST(Import, TextureNextToAMtlInASubfolder) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace b2o::test;
+
+// A UTF-8 byte-order mark at the start of the .obj or the .mtl is no part of the first
+// statement: `o Cloth` keeps its name, `mtllib` its materials, `newmtl` its material
+// (assimp is given the text without it).
+TEST(Import, Utf8ByteOrderMarkInObjAndMtl) {
+  const auto dir = scratch("import_bom");
+  write_file(dir / "a.obj", "\xEF\xBB\xBFo Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  auto s = b2o::conv::import_scene(dir / "a.obj", false, true);
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0].name, "Cloth");
+  write_file(dir / "sub" / "b.obj", "\xEF\xBB\xBFmtllib b.mtl\no Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Red\nf 1 2 3\n");
+  write_file(dir / "sub" / "b.mtl", "\xEF\xBB\xBFnewmtl Red\nKd 1 0.5 0\n");
+  s = b2o::conv::import_scene(dir / "sub" / "b.obj", false, false);
+  EXPECT_TRUE(s.warnings.empty());
+  ASSERT_EQ(s.materials.size(), 1u);
+  EXPECT_EQ(s.materials[0].name, "Red");
+  EXPECT_EQ(s.materials[0].diffuse[1], 0.5f);
+  ASSERT_EQ(s.submeshes.size(), 1u);
+  EXPECT_EQ(s.submeshes[0].material, 0);
+}
+
+}  // namespace
