@@ -117,6 +117,9 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     while (continued && !joined.empty() && (joined.back() == '\\' || (joined.back() == '\r' && joined.size() > 1 && joined[joined.size() - 2] == '\\')) && !rest.empty()) {
       joined.erase(joined.rfind('\\'));
       nl = rest.find('\n');
+      // assimp joins a continuation with the next line that is not empty: another line than here
+      if (rest.substr(0, nl).find_first_not_of(" \t\r\f\v") == std::string_view::npos)
+        fail(file, start_line, "line continuation ('\\' at the end) followed by an empty line");
       joined.append(rest.substr(0, nl));
       rest = (nl == std::string_view::npos) ? std::string_view() : rest.substr(nl + 1);
       ++line_no;
@@ -159,6 +162,16 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     }
     if (tok.empty()) continue;
     const std::string_view key = tok[0];
+    // A comment after the numbers of a v/vt/vn/f/l/p statement: assimp would read it as
+    // numbers (f 1 2 3 # x: "Invalid face index"); it is given the line without it.
+    if (end < body_all.size() && (key == "v" || key == "vt" || key == "vn" || key == "vp" || key == "f" ||
+                                  key == "fo" || key == "l" || key == "p")) {
+      if (continued) fail(file, start_line, "a comment on a continued line ('\\' at the end) is not supported");
+      const std::size_t from = static_cast<std::size_t>(tok.back().data() + tok.back().size() - text.data());
+      std::size_t to = static_cast<std::size_t>(line.data() + line.size() - text.data());
+      if (!line.empty() && line.back() == '\r') --to;
+      cuts.emplace_back(from, to - from);
+    }
     double values[4] = {0, 0, 0, 0};
     auto numbers = [&](std::size_t min_count, const char* what) -> const double* {
       if (tok.size() - 1 < min_count)
@@ -175,8 +188,17 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       }
       return values;
     };
+    // Counts assimp reads right; others it misreads (a vertex skipped: later indices shift)
+    // or refuses without a line. Nothing else may follow the numbers.
+    auto count_in = [&](std::initializer_list<std::size_t> allowed, const char* what) {
+      for (std::size_t n : allowed)
+        if (tok.size() - 1 == n) return;
+      fail(file, start_line, quote_input(key) + " takes " + what + ", found " + std::to_string(tok.size() - 1));
+    };
     if (key == "v") {
       const double* v = numbers(3, "coordinates");
+      count_in({3, 4, 6}, "3 coordinates (x y z), 4 (x y z w) or 6 (x y z r g b)");
+      if (tok.size() == 5 && v[3] == 0.0) fail(file, start_line, "'v' with w = 0 (a point at infinity)");
       ++scan.positions;
       if (in_pin_object) {
         // (the values are only parsed here: pin points need them, nothing else does)
@@ -188,9 +210,11 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       }
     } else if (key == "vt") {
       numbers(1, "coordinate");
+      count_in({2, 3}, "2 coordinates (u v) or 3 (u v w)");
       ++scan.texcoords;
     } else if (key == "vn") {
       numbers(3, "coordinates");
+      count_in({3}, "3 coordinates (x y z)");
       ++scan.normals;
     } else if (key == "vp") {
       numbers(1, "coordinate");
@@ -203,6 +227,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       for (std::size_t k = 1; k < tok.size(); ++k) {
         const std::string_view ref = tok[k];
         std::size_t part = 0, pos = 0;
+        bool ended = false;  // else a 3rd slash follows the 3 fields ("1/1/1/1")
         while (part < 3) {
           const std::size_t slash = ref.find('/', pos);
           const std::string_view field = ref.substr(pos, slash == std::string_view::npos ? std::string_view::npos : slash - pos);
@@ -218,10 +243,13 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
                                          " defined so far)");
           }
           ++part;
-          if (slash == std::string_view::npos) break;
+          if (slash == std::string_view::npos) {
+            ended = true;
+            break;
+          }
           pos = slash + 1;
         }
-        if (part > 3 || (pos < ref.size() && ref.find('/', pos) != std::string_view::npos))
+        if (!ended || (pos < ref.size() && ref.find('/', pos) != std::string_view::npos))
           fail(file, start_line, "malformed vertex reference " + quote_input(ref));
       }
       if (face) ++scan.faces; else ++scan.lines_points;
@@ -333,16 +361,28 @@ std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file) {
       while (!arg.empty() && (arg.back() == ' ' || arg.back() == '\t' || arg.back() == '\r')) arg.pop_back();
       maps.push_back({arg, line_no});
     }
-    if (key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf" || key == "Ns" || key == "d" ||
-        key == "Tr" || key == "Ni") {
+    const bool color = key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf";
+    if (color || key == "Ns" || key == "d" || key == "Tr" || key == "Ni") {
       for (std::size_t k = 1; k < tok.size(); ++k) {
         double v = 0;
+        if (tok[k][0] == '#') {
+          tok.resize(k);  // a comment
+          break;
+        }
         if (parse_number(tok[k], v)) {
           if (!std::isfinite(v)) fail(file, line_no, "number out of range " + quote_input(tok[k]));
         } else if (is_number_like(tok[k])) {
           fail(file, line_no, "non-finite value " + quote_input(tok[k]));
+        } else {
+          // (assimp would fail with "Cannot parse string" naming neither file nor line)
+          fail(file, line_no, "malformed number " + quote_input(tok[k]) + " in " + quote_input(key));
         }
       }
+      // assimp reads 3 numbers for a color (a missing one fails it) and 1 for the others
+      const std::size_t n = tok.size() - 1;
+      if (color && n != 3 && n != 1)
+        fail(file, line_no, quote_input(key) + " takes 3 numbers (r g b) or 1 (grey), found " + std::to_string(n));
+      if (!color && n != 1) fail(file, line_no, quote_input(key) + " takes 1 number, found " + std::to_string(n));
     }
   }
   return maps;

@@ -366,3 +366,47 @@ TEST(Cli, RepeatedObjectNamesNeverMoveGeometry) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace b2o::test;
+
+// Text that passed the pre-scan and then failed in assimp without a line (or blaming the .obj
+// for its .mtl) is refused by the pre-scan with file:line; a trailing comment on a v/f line is
+// accepted (assimp gets the line without it).
+TEST(Cli, StatementsAssimpMisreadsAreRefusedWithTheirLine) {
+  const auto dir = scratch("cli_assimp_misreads");
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  struct Case {
+    std::string obj, mtl, where, expect;
+  };
+  const std::string mtl_obj = "mtllib m.mtl\n" + tri + "usemtl M\nf 1 2 3\n";
+  const std::vector<Case> cases = {
+      {"v 0 0 0 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "", "m.obj:1: ", "'v' takes 3 coordinates"},
+      {"v 0 0 0 1 0 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "", "m.obj:1: ", "'v' takes 3 coordinates (x y z), 4 (x y z w) or 6 (x y z r g b), found 8"},
+      {"v 0 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "", "m.obj:1: ", "'v' with w = 0"},
+      {tri + "vt 0.5\nf 1/1 2/1 3/1\n", "", "m.obj:4: ", "'vt' takes 2 coordinates"},
+      {tri + "vn 0 0 1 0\nf 1//1 2//1 3//1\n", "", "m.obj:4: ", "'vn' takes 3 coordinates"},
+      {tri + "vt 0 0\nvn 0 0 1\nf 1/1/1/1 2/1/1 3/1/1\n", "", "m.obj:6: ", "malformed vertex reference '1/1/1/1'"},
+      {"v 0 0 0 \\\n\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\n", "", "m.obj:1: ", "line continuation ('\\' at the end) followed by an empty line"},
+      {mtl_obj, "newmtl M\nKd 1 0\n", "m.mtl:2: ", "'Kd' takes 3 numbers (r g b) or 1 (grey), found 2"},
+      {mtl_obj, "newmtl M\nKd a b c\n", "m.mtl:2: ", "malformed number 'a' in 'Kd'"},
+      {mtl_obj, "newmtl M\nNs\n", "m.mtl:2: ", "'Ns' takes 1 number, found 0"},
+  };
+  for (const Case& c : cases) {
+    write_file(dir / "m.obj", c.obj);
+    write_file(dir / "m.mtl", c.mtl);
+    const auto r = run_converter({"-t", (dir / "out").string(), (dir / "m.obj").string()});
+    EXPECT_EQ(r.exit_code, 1) << c.obj << r.output;
+    EXPECT_NE(r.output.find((dir / c.where).string() + c.expect), std::string::npos) << c.obj << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+  }
+  // comments after numbers: accepted, the same geometry as without them
+  write_file(dir / "c.obj", "v 0 0 0 # a b c\nv 1 0 0\nv 0 1 0\nf 1 2 3 # comment\r\nf 3 2 1#c\n");
+  const auto s = b2o::conv::import_scene(dir / "c.obj", false);
+  ASSERT_EQ(s.indices.size(), 6u);
+  EXPECT_EQ(s.positions[0], 0.0f);
+  EXPECT_EQ(s.positions[3], 1.0f);
+}
+
+}  // namespace
