@@ -11,6 +11,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <set>
 #include <sstream>
 
 #include "converter.hpp"
@@ -55,13 +56,16 @@ Material read_material(const aiMaterial& m) {
 // Other files, and relative paths (mtllib, textures), go through the default file system.
 class CheckedIO : public Assimp::DefaultIOSystem {
  public:
-  CheckedIO(std::filesystem::path model, const std::string* model_text) : model_(std::move(model)), text_(model_text) {}
+  /// `replaced`: files assimp reads from these bytes instead (the pre-scan's cleaned text).
+  explicit CheckedIO(std::vector<std::pair<std::filesystem::path, std::string>> replaced)
+      : replaced_(std::move(replaced)) {}
   Assimp::IOStream* Open(const char* path, const char* mode) override {
     const std::string m = mode == nullptr ? "rb" : mode;
     const bool reading = m.find_first_of("wa+") == std::string::npos;
     std::error_code ec;
-    if (reading && text_ != nullptr && std::filesystem::equivalent(path, model_, ec))
-      return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(text_->data()), text_->size());
+    for (const auto& [file, text] : replaced_)
+      if (reading && std::filesystem::equivalent(path, file, ec))
+        return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
     Assimp::IOStream* s = DefaultIOSystem::Open(path, mode);
     const std::string ext = lower(std::filesystem::path(path).extension().string());
     if (s == nullptr || !reading || (ext != ".obj" && ext != ".mtl")) return s;
@@ -78,8 +82,7 @@ class CheckedIO : public Assimp::DefaultIOSystem {
   }
 
  private:
-  std::filesystem::path model_;
-  const std::string* text_;
+  std::vector<std::pair<std::filesystem::path, std::string>> replaced_;
 };
 
 // `<OBJECT>_pins` helpers become pin points and leave the scene (their vertices too).
@@ -151,25 +154,34 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
     std::filesystem::path mtl;
   };
   std::vector<MapKdOf> map_kd;  // to report a missing texture at its .mtl line
+  std::vector<std::pair<std::filesystem::path, std::string>> replaced;  // what assimp reads instead
   if (is_obj) {
     scan = prescan_obj_file(file);
     out.timings_ms.emplace_back("pre-scan", lap_ms(t0));
+    std::set<std::string> defined;  // materials of the libraries read
+    bool library_missing = false;
     for (std::size_t i = 0; i < scan.mtllibs.size(); ++i) {
       const std::string& lib = scan.mtllibs[i];
       const auto p = folder / lib;
       const std::string where = file.string() + ":" + std::to_string(scan.mtllib_lines[i]) + ": ";
       auto check_mtl = [&](const std::filesystem::path& mtl) {
+        MtlScan m;
         try {
-          for (MapKd& m : prescan_mtl_file(mtl)) map_kd.push_back({std::move(m), mtl});
+          m = prescan_mtl_file(mtl);
         } catch (const InputError& e) {
           throw InputError(std::string(e.what()) + " (material library of " + file.filename().string() + ")");
         }
+        for (MapKd& k : m.maps) map_kd.push_back({std::move(k), mtl});
+        defined.insert(m.materials.begin(), m.materials.end());
+        out.warnings.insert(out.warnings.end(), m.warnings.begin(), m.warnings.end());
+        if (m.cleaned) replaced.emplace_back(mtl, std::move(m.clean_text));
         out.inputs_read.push_back(std::filesystem::absolute(mtl));
       };
       if (!std::filesystem::exists(p, ec)) {
         if (!allow_missing)
           throw InputError(where + "material library " + quote_input(lib) + " not found (" + p.string() +
                            "); --allow-missing converts without it");
+        library_missing = true;
         // assimp then reads <model>.mtl instead, when there is one: check that one.
         const auto fallback = folder / (file.stem().string() + ".mtl");
         if (std::filesystem::is_regular_file(fallback, ec)) {
@@ -187,6 +199,16 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
         throw InputError(where + "material library " + quote_input(lib) + " is not a readable file");
       check_mtl(p);
     }
+    // A `usemtl` no library defines: assimp invents a material of that name (grey); the
+    // file's author meant another. (Not repeated when a library was missing: that is warned.)
+    if (!library_missing)
+      for (const auto& [name, line] : scan.usemtl)
+        if (defined.count(name) == 0)
+          out.warnings.push_back(file.string() + ":" + std::to_string(line) + ": material " + quote_input(name) +
+                                 (scan.mtllibs.empty() ? " used but no 'mtllib' is given"
+                                                       : " is defined in no material library") +
+                                 "; its faces get a default (grey) material");
+    if (scan.cleaned) replaced.emplace_back(file, std::move(scan.clean_text));
     if (scan.lines_points > 0)
       out.warnings.push_back(file.string() + ": " + std::to_string(scan.lines_points) +
                              " line/point elements ignored (only faces are drawn)");
@@ -196,7 +218,7 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
   }
 
   Assimp::Importer importer;
-  importer.SetIOHandler(new CheckedIO(file, scan.cleaned ? &scan.clean_text : nullptr));
+  importer.SetIOHandler(new CheckedIO(std::move(replaced)));
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* ai = importer.ReadFile(file.string(), import_flags());
   if (ai == nullptr) {

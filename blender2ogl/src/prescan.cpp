@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <map>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -292,6 +293,12 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
         scan.object_lines[name].push_back(start_line);
         current_object = active_group = name;
       }
+    } else if (key == "usemtl") {
+      // as assimp reads it: the rest of the line, comment included, trimmed
+      std::string name(body_all.substr(static_cast<std::size_t>(key.data() + key.size() - body_all.data())));
+      const std::size_t a = name.find_first_not_of(" \t\r\f\v"), b = name.find_last_not_of(" \t\r\f\v");
+      name = a == std::string::npos ? std::string() : name.substr(a, b - a + 1);
+      if (!name.empty()) scan.usemtl.emplace_back(name, start_line);
     } else if (key == "mtllib") {
       // A name may hold spaces; assimp takes the rest of the line.
       const std::string_view body = body_all.substr(0, end);
@@ -317,8 +324,10 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   return scan;
 }
 
-std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file) {
-  std::vector<MapKd> maps;
+MtlScan prescan_mtl_file(const std::filesystem::path& file) {
+  MtlScan scan;
+  std::vector<MapKd>& maps = scan.maps;
+  std::map<std::string, std::size_t> defined;  // name -> first line
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string() + ": cannot open: " + std::strerror(errno));
   std::string line;
@@ -327,7 +336,12 @@ std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file) {
   while (std::getline(in, line)) {
     ++line_no;
     // a UTF-8 byte-order mark (assimp is given the file without it)
-    if (line_no == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
+    if (line_no == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) {
+      line.erase(0, 3);
+      scan.cleaned = true;
+    }
+    const std::size_t clean_from = scan.clean_text.size();
+    scan.clean_text.append(line).push_back('\n');
     std::vector<std::string_view> tok;
     std::size_t start = std::string::npos;
     for (std::size_t i = 0; i <= line.size(); ++i) {
@@ -351,6 +365,16 @@ std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file) {
     const std::string_view key = tok[0];
     if (key == "newmtl") {
       in_material = true;
+      // as assimp reads it: the rest of the line, trimmed ("newmtl" alone: its default name)
+      std::string name = line.substr(static_cast<std::size_t>(tok[0].data() + tok[0].size() - line.data()));
+      const std::size_t a = name.find_first_not_of(" \t\r"), b = name.find_last_not_of(" \t\r");
+      name = a == std::string::npos ? std::string("DefaultMaterial") : name.substr(a, b - a + 1);
+      if (auto [it, added] = defined.try_emplace(name, line_no); !added)
+        scan.warnings.push_back(file.string() + ":" + std::to_string(line_no) + ": material " + quote_input(name) +
+                                " defined again (first at line " + std::to_string(it->second) +
+                                "); assimp merges the two, the later values win");
+      else
+        scan.materials.push_back(name);
       continue;
     }
     if (!in_material) fail(file, line_no, quote_input(key) + " before any 'newmtl'");
@@ -383,9 +407,19 @@ std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file) {
       if (color && n != 3 && n != 1)
         fail(file, line_no, quote_input(key) + " takes 3 numbers (r g b) or 1 (grey), found " + std::to_string(n));
       if (!color && n != 1) fail(file, line_no, quote_input(key) + " takes 1 number, found " + std::to_string(n));
+      // One number is a grey (the MTL spec: g = b = r); assimp would read (r, 0, 0).
+      if (color && n == 1) {
+        std::string grey(key);
+        for (int k = 0; k < 3; ++k) grey.append(" ").append(tok[1]);
+        if (!line.empty() && line.back() == '\r') grey.push_back('\r');
+        scan.clean_text.resize(clean_from);
+        scan.clean_text.append(grey).push_back('\n');
+        scan.cleaned = true;
+      }
     }
   }
-  return maps;
+  if (!scan.cleaned) scan.clean_text.clear();
+  return scan;
 }
 
 bool is_pin_object_name(const std::string& name) {

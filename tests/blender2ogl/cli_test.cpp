@@ -410,3 +410,48 @@ TEST(Cli, StatementsAssimpMisreadsAreRefusedWithTheirLine) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace b2o::test;
+
+// `usemtl` naming a material no library defines (or with no mtllib at all) gets assimp's
+// invented grey material: a warning at its line, exit 0.
+TEST(Cli, UsemtlWithoutDefinitionIsWarnedAtItsLine) {
+  const auto dir = scratch("cli_usemtl_undefined");
+  write_file(dir / "a.obj", "mtllib a.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl M\nf 1 2 3\nusemtl Nothing\nf 3 2 1\n");
+  write_file(dir / "a.mtl", "newmtl M\nKd 1 0 0\n");
+  auto r = run_converter({"-t", (dir / "out").string(), (dir / "a.obj").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: " + (dir / "a.obj").string() +
+                          ":7: material 'Nothing' is defined in no material library"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find(":5: material 'M'"), std::string::npos) << r.output;
+  write_file(dir / "b.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Nothing\nf 1 2 3\n");
+  r = run_converter({"-t", (dir / "out").string(), (dir / "b.obj").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: " + (dir / "b.obj").string() + ":4: material 'Nothing' used but no 'mtllib'"),
+            std::string::npos)
+      << r.output;
+}
+
+// MTL: one number is a grey (r = g = b), as the spec says (assimp alone reads (r, 0, 0));
+// a material defined twice is merged by assimp: a warning at the second newmtl.
+TEST(Cli, MtlGreyColorAndRepeatedMaterial) {
+  const auto dir = scratch("cli_mtl_grey");
+  write_file(dir / "a.obj", "mtllib a.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl M\nf 1 2 3\n");
+  write_file(dir / "a.mtl", "newmtl M\nKd 1\r\nKs 0.5 # half\nNs 10\n\nnewmtl M\nKa 0.25\n");
+  const auto s = b2o::conv::import_scene(dir / "a.obj", false);
+  ASSERT_EQ(s.materials.size(), 1u);
+  EXPECT_EQ(s.materials[0].diffuse, (std::array<float, 3>{1.0f, 1.0f, 1.0f}));
+  EXPECT_EQ(s.materials[0].specular, (std::array<float, 3>{0.5f, 0.5f, 0.5f}));
+  EXPECT_EQ(s.materials[0].ambient, (std::array<float, 3>{0.25f, 0.25f, 0.25f}));
+  EXPECT_EQ(s.materials[0].shininess, 10.0f);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find((dir / "a.mtl").string() + ":6: material 'M' defined again (first at line 1)"),
+            std::string::npos)
+      << s.warnings[0];
+}
+
+}  // namespace
