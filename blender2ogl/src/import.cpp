@@ -334,7 +334,8 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
       // corners with bit-identical position, normal and texcoord become one vertex, in order
       // of first use. (assimp's JoinIdenticalVertices merges within 1e-5 and costs 1.7 s and
       // 300 MB on a 1M-triangle OBJ; see docs/blender2ogl.md.)
-      bool bad_normal = false;
+      std::vector<char> bad_normal(mesh->mNumVertices, 0);
+      std::size_t bad_normals = 0;
       std::vector<float> corner(8 * static_cast<std::size_t>(mesh->mNumVertices));
       for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
         aiVector3D p = mesh->mVertices[v];
@@ -343,9 +344,12 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
         if (moved) p = transform * p;
         aiVector3D n = mesh->mNormals != nullptr ? mesh->mNormals[v] : aiVector3D(0, 0, 0);
         if (moved) n = (normal_matrix * n).NormalizeSafe();
-        if (!finite3(n)) {
-          n = aiVector3D(0, 0, 0);  // a generated normal of a degenerate face
-          bad_normal = true;
+        // none (a face without `vn` among faces with), zero (`vn 0 0 0`) or non-finite (a
+        // normal assimp generated for a degenerate face): computed from the faces below
+        if (!finite3(n) || (n.x == 0.0f && n.y == 0.0f && n.z == 0.0f)) {
+          n = aiVector3D(0, 0, 0);
+          bad_normal[v] = 1;
+          ++bad_normals;
         }
         float u = 0.0f, w = 0.0f;
         if (mesh->HasTextureCoords(0)) {
@@ -357,8 +361,47 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
         const float attrs[8] = {p.x, p.y, p.z, n.x, n.y, n.z, u, w};
         std::memcpy(&corner[8 * static_cast<std::size_t>(v)], attrs, sizeof attrs);
       }
-      if (bad_normal)
-        out.warnings.push_back(file.string() + ": object " + quote_input(obj.name) + ": some normals could not be generated (degenerate faces); set to zero");
+      if (bad_normals > 0) {
+        // The normalized, area-weighted sum of the normals of the faces using the vertex (the
+        // face's normal when only one does); (0, 0, 1) when those faces have no area.
+        std::vector<double> sum(3 * static_cast<std::size_t>(mesh->mNumVertices), 0.0);
+        for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+          const aiFace& face = mesh->mFaces[f];
+          if (face.mNumIndices != 3) continue;
+          bool any = false;
+          for (unsigned c = 0; c < 3; ++c) any = any || (face.mIndices[c] < mesh->mNumVertices && bad_normal[face.mIndices[c]]);
+          if (!any || face.mIndices[0] >= mesh->mNumVertices || face.mIndices[1] >= mesh->mNumVertices ||
+              face.mIndices[2] >= mesh->mNumVertices)
+            continue;
+          const float* a = &corner[8 * static_cast<std::size_t>(face.mIndices[0])];
+          const float* b = &corner[8 * static_cast<std::size_t>(face.mIndices[1])];
+          const float* d = &corner[8 * static_cast<std::size_t>(face.mIndices[2])];
+          const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+          const double e2[3] = {double(d[0]) - a[0], double(d[1]) - a[1], double(d[2]) - a[2]};
+          const double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+          for (unsigned c = 0; c < 3; ++c)
+            if (bad_normal[face.mIndices[c]])
+              for (int j = 0; j < 3; ++j) sum[3 * static_cast<std::size_t>(face.mIndices[c]) + static_cast<std::size_t>(j)] += cr[j];
+        }
+        std::size_t undefined = 0;
+        for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+          if (!bad_normal[v]) continue;
+          const double* q = &sum[3 * static_cast<std::size_t>(v)];
+          const double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+          float nn[3] = {0.0f, 0.0f, 1.0f};
+          if (len > 0.0 && std::isfinite(len))
+            for (int j = 0; j < 3; ++j) nn[j] = static_cast<float>(q[j] / len);
+          if (!(std::isfinite(nn[0]) && std::isfinite(nn[1]) && std::isfinite(nn[2])) ||
+              (nn[0] == 0.0f && nn[1] == 0.0f && nn[2] == 0.0f) || !(len > 0.0 && std::isfinite(len))) {
+            nn[0] = nn[1] = 0.0f, nn[2] = 1.0f;
+            ++undefined;
+          }
+          std::memcpy(&corner[8 * static_cast<std::size_t>(v) + 3], nn, sizeof nn);
+        }
+        out.warnings.push_back(file.string() + ": object " + quote_input(obj.name) + ": " + std::to_string(bad_normals) +
+                               " missing, zero or non-finite normals computed from the faces" +
+                               (undefined > 0 ? " (" + std::to_string(undefined) + " on faces without area set to (0, 0, 1))" : ""));
+      }
       std::size_t table_size = 16;
       while (table_size < 2ull * mesh->mNumVertices) table_size *= 2;
       constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
