@@ -144,6 +144,10 @@ Cloth build_cloth(Scene& s, std::uint32_t object_index, bool reverse, Stats& sta
       half.push_back({(std::min(a, b) << 32) | std::max(a, b), t[(e + 2) % 3]});
     }
   }
+  // A cloth without a triangle has no springs: nothing the simulator could move.
+  if (c.triangles.empty())
+    throw InputError(file + ": cloth " + quote_input(o.name) + ": no usable triangle (all " +
+                     std::to_string(degenerate) + " are degenerate: a repeated vertex or no area); it would get no springs");
   if (degenerate > 0) {
     stats.degenerate_triangles += degenerate;
     s.warnings.push_back(file + ": cloth " + quote_input(o.name) + ": " + std::to_string(degenerate) +

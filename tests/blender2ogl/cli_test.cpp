@@ -455,3 +455,27 @@ TEST(Cli, MtlGreyColorAndRepeatedMaterial) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace b2o::test;
+
+// A cloth whose triangles are all degenerate (a repeated vertex, collinear points) would get
+// no springs: an error naming the object and the file, nothing written.
+TEST(Cli, ClothWithoutUsableTriangleIsRefused) {
+  const auto dir = scratch("cli_cloth_no_triangle");
+  for (const std::string& obj : {std::string("o Cloth\nv 0 0 0\nf 1 1 1\n"),
+                                 std::string("o Cloth\nv 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n"
+                                             "o Floor\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 4 5 6\n")}) {
+    write_file(dir / "m.obj", obj);
+    const auto r = run_converter({"-a", "Cloth", "-t", (dir / "out").string(), (dir / "m.obj").string()});
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find((dir / "m.obj").string() + ": cloth 'Cloth': no usable triangle"), std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+    // (without -a the object is only drawn: accepted)
+    EXPECT_EQ(run_converter({"-t", (dir / "out2").string(), (dir / "m.obj").string()}).exit_code, 0);
+  }
+}
+
+}  // namespace
