@@ -1,5 +1,7 @@
 // import: the only code that parses model files (through assimp, after a light text check of .obj).
 #include <assimp/DefaultIOSystem.h>
+#include <assimp/DefaultLogger.hpp>
+#include <assimp/LogStream.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/MemoryIOWrapper.h>
 #include <assimp/postprocess.h>
@@ -83,6 +85,32 @@ class CheckedIO : public Assimp::DefaultIOSystem {
 
  private:
   std::vector<std::pair<std::filesystem::path, std::string>> replaced_;
+};
+
+// The errors assimp's importers log while they go on: for formats without the pre-scan they
+// mean repaired input (the OFF importer clamps a face index out of range to the last vertex).
+class AssimpErrors {
+ public:
+  AssimpErrors() {
+    Assimp::DefaultLogger::create(nullptr, Assimp::Logger::NORMAL, 0);
+    Assimp::DefaultLogger::get()->attachStream(new Capture(messages), Assimp::Logger::Err);
+  }
+  ~AssimpErrors() { Assimp::DefaultLogger::kill(); }
+  AssimpErrors(const AssimpErrors&) = delete;
+  AssimpErrors& operator=(const AssimpErrors&) = delete;
+  std::vector<std::string> messages;
+
+ private:
+  struct Capture : Assimp::LogStream {
+    explicit Capture(std::vector<std::string>& to) : out(to) {}
+    void write(const char* message) override {
+      std::string m = message;
+      if (m.rfind("Error, ", 0) == 0 && m.find(": ") != std::string::npos) m.erase(0, m.find(": ") + 2);
+      while (!m.empty() && (m.back() == '\n' || m.back() == '\r')) m.pop_back();
+      out.push_back(m);
+    }
+    std::vector<std::string>& out;
+  };
 };
 
 // `<OBJECT>_pins` helpers become pin points and leave the scene (their vertices too).
@@ -220,11 +248,24 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
   Assimp::Importer importer;
   importer.SetIOHandler(new CheckedIO(std::move(replaced)));
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const aiScene* ai = importer.ReadFile(file.string(), import_flags());
-  if (ai == nullptr) {
-    std::string why = importer.GetErrorString();
-    while (!why.empty() && (why.back() == '\n' || why.back() == '\r')) why.pop_back();
-    throw InputError(file.string() + ": cannot import: " + (why.empty() ? "unknown error" : why));
+  const aiScene* ai = nullptr;
+  {
+    AssimpErrors errors;
+    ai = importer.ReadFile(file.string(), import_flags());
+    if (ai == nullptr) {
+      std::string why = importer.GetErrorString();
+      while (!why.empty() && (why.back() == '\n' || why.back() == '\r')) why.pop_back();
+      throw InputError(file.string() + ": cannot import: " + (why.empty() ? "unknown error" : why));
+    }
+    // (OBJ input went through the pre-scan; assimp's errors there are warned or refused above.)
+    // Other formats: an index out of range that assimp "repaired" would be a silently wrong
+    // mesh: refused; assimp's other errors (a default material, an extra layer) are warnings.
+    if (!is_obj)
+      for (const std::string& m : errors.messages) {
+        if (m.find("out of range") != std::string::npos)
+          throw InputError(file.string() + ": cannot import: " + m + " (assimp would change the index; refused)");
+        out.warnings.push_back(file.string() + ": assimp: " + m);
+      }
   }
   out.timings_ms.emplace_back("assimp", lap_ms(t0));
   if ((ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || ai->mNumMeshes == 0 || ai->mRootNode == nullptr)

@@ -479,3 +479,27 @@ TEST(Cli, ClothWithoutUsableTriangleIsRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace b2o::test;
+
+// Formats without the pre-scan: assimp's OFF importer clamps a face index out of range to the
+// last vertex (an error in its log, a wrong triangle): refused. Its other logged errors are
+// warnings, not silent.
+TEST(Cli, NonObjIndexOutOfRangeIsRefused) {
+  const auto dir = scratch("cli_off_range");
+  write_file(dir / "bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 99\n");
+  auto r = run_converter({"-t", (dir / "out").string(), (dir / "bad.off").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "bad.off").string() + ": cannot import: OFF: Vertex index is out of range"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  write_file(dir / "good.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  r = run_converter({"-t", (dir / "out").string(), (dir / "good.off").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output, "");
+}
+
+}  // namespace
