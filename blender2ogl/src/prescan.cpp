@@ -199,7 +199,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     if (key == "v") {
       const double* v = numbers(3, "coordinates");
       count_in({3, 4, 6}, "3 coordinates (x y z), 4 (x y z w) or 6 (x y z r g b)");
-      if (tok.size() == 5 && v[3] == 0.0) fail(file, start_line, "'v' with w = 0 (a point at infinity)");
+      if (tok.size() == 5 && std::strtod(std::string(tok[4]).c_str(), nullptr) == 0.0) fail(file, start_line, "'v' with w = 0 (a point at infinity)");
       ++scan.positions;
       if (in_pin_object) {
         // (the values are only parsed here: pin points need them, nothing else does)

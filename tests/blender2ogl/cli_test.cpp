@@ -401,6 +401,11 @@ TEST(Cli, StatementsAssimpMisreadsAreRefusedWithTheirLine) {
     EXPECT_NE(r.output.find((dir / c.where).string() + c.expect), std::string::npos) << c.obj << r.output;
     EXPECT_FALSE(fs::exists(dir / "out"));
   }
+  // a w other than 0 is accepted (assimp divides x, y, z by it)
+  write_file(dir / "w.obj", "v 0 0 0 1\nv 2 0 0 2\nv 0 1 0 1.0\nf 1 2 3\n");
+  const auto sw = b2o::conv::import_scene(dir / "w.obj", false);
+  ASSERT_EQ(sw.positions.size(), 9u);
+  EXPECT_EQ(sw.positions[3], 1.0f);
   // comments after numbers: accepted, the same geometry as without them
   write_file(dir / "c.obj", "v 0 0 0 # a b c\nv 1 0 0\nv 0 1 0\nf 1 2 3 # comment\r\nf 3 2 1#c\n");
   const auto s = b2o::conv::import_scene(dir / "c.obj", false);
