@@ -101,7 +101,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   std::string current_group;
   // assimp's OBJ state, to catch names it would resolve to the wrong object: the object that
   // takes faces (the last `o`/`g` that made or found one) and the active group (`g` only).
-  std::string current_object, active_group;
+  std::string owner, intended, active_group, misplaced;  // misplaced: why owner != intended
   bool in_pin_object = false;
   std::string joined;
   std::vector<std::string_view> tok;
@@ -253,6 +253,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
         if (!ended || (pos < ref.size() && ref.find('/', pos) != std::string_view::npos))
           fail(file, start_line, "malformed vertex reference " + quote_input(ref));
       }
+      if (face && owner != intended) throw InputError(misplaced);
       if (face) ++scan.faces; else ++scan.lines_points;
     } else if (key == "o" || key == "g") {
       ++scan.groups;
@@ -265,33 +266,35 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
                                    quote_input(current_group));
       in_pin_object = is_pin_object_name(current_group);
       // Repeated names. assimp 5.2.5 finds an `o` name it has seen (from `o` or `g`) and makes
-      // that object current but keeps adding faces to the mesh before it, so they land in the
-      // previous object; a `g` equal to the active group is ignored, so after an `o` in
-      // between its faces land in that `o`'s object. Both are refused. A `g` repeated after
-      // another group makes a second object of that name (its faces are right): a warning.
+      // that object current but keeps adding faces to the mesh before it ("owner"); a `g` equal
+      // to the active group is ignored, so after an `o` in between its faces go to that `o`'s
+      // object. A face read while the owner is not the object the file names is refused, at
+      // the line that named it. A `g` repeated after another group makes a second object of
+      // that name (its faces are right): a warning.
       const std::string& name = current_group;
       auto seen = scan.object_lines.find(name);
       const std::string first =
           seen == scan.object_lines.end() ? "" : " (first at line " + std::to_string(seen->second.front()) + ")";
-      if (name.empty() || name == current_object) {
-        // a continuation (an empty name is left to assimp as before)
-      } else if (key == "o") {
-        if (seen != scan.object_lines.end())
-          fail(file, start_line, "object name " + quote_input(name) + " repeated" + first +
-                                     ": assimp would give its faces to " + quote_input(current_object) +
-                                     "; give each object its own name");
-        scan.object_lines[name].push_back(start_line);
-        current_object = name;
-      } else if (name == active_group) {
-        fail(file, start_line, "group " + quote_input(name) + " repeated" + first + " after object " +
-                                   quote_input(current_object) + ": assimp would give its faces to " +
-                                   quote_input(current_object) + "; give each object its own name");
+      const std::string where = file.string() + ":" + std::to_string(start_line) + ": ";
+      if (name.empty() || name == intended) {
+        // a continuation (an empty name is left to assimp as before; a `g` with the current
+        // object's name makes an object of the same name, which the import joins to it)
+        if (key == "g" && !name.empty()) active_group = name;
+      } else if (key == "o" && seen != scan.object_lines.end()) {
+        intended = name;
+        misplaced = where + "object name " + quote_input(name) + " repeated" + first + ": assimp would give its faces to " +
+                    quote_input(owner) + "; give each object its own name";
+      } else if (key == "g" && name == active_group) {
+        intended = name;
+        misplaced = where + "group " + quote_input(name) + " repeated" + first + " after object " + quote_input(owner) +
+                    ": assimp would give its faces to " + quote_input(owner) + "; give each object its own name";
       } else {
         if (seen != scan.object_lines.end())
-          scan.warnings.push_back(file.string() + ":" + std::to_string(start_line) + ": group " + quote_input(name) +
-                                  " repeated" + first + ": kept as another object of the same name");
+          scan.warnings.push_back(where + "group " + quote_input(name) + " repeated" + first +
+                                  ": kept as another object of the same name");
         scan.object_lines[name].push_back(start_line);
-        current_object = active_group = name;
+        owner = intended = name;
+        if (key == "g") active_group = name;
       }
     } else if (key == "usemtl") {
       // as assimp reads it: the rest of the line, comment included, trimmed

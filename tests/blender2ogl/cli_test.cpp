@@ -351,6 +351,18 @@ TEST(Cli, RepeatedObjectNamesNeverMoveGeometry) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("warning: " + g + ":11: group 'A' repeated (first at line 1)"), std::string::npos) << r.output;
 
+  // a repeat without a face while assimp's owner differs is harmless: accepted; a `g` that
+  // continues the current object still sets assimp's active group
+  write_file(dir / "ok.obj", three_objects("o", "g", "g") + "o B\ng A\nf 7 8 9\n");
+  r = run_converter({"-a", "B", "-t", (dir / "out_ok").string(), (dir / "ok.obj").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  write_file(dir / "ga.obj", "o A\ng A\nv 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\no B\nf 3 2 1\ng A\nf 1 2 3\n");
+  r = run_converter({"-t", (dir / "out").string(), (dir / "ga.obj").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find((dir / "ga.obj").string() + ":9: group 'A' repeated (first at line 1) after object 'B'"),
+            std::string::npos)
+      << r.output;
+
   b2o::conv::Options opt;
   opt.input = dir / "g.obj";
   opt.cloth_objects = {"A_2"};
