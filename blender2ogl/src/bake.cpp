@@ -144,6 +144,10 @@ Cloth build_cloth(Scene& s, std::uint32_t object_index, bool reverse, Stats& sta
       half.push_back({(std::min(a, b) << 32) | std::max(a, b), t[(e + 2) % 3]});
     }
   }
+  // A cloth without a triangle has no springs: nothing the simulator could move.
+  if (c.triangles.empty())
+    throw InputError(file + ": cloth " + quote_input(o.name) + ": no usable triangle (all " +
+                     std::to_string(degenerate) + " are degenerate: a repeated vertex or no area); it would get no springs");
   if (degenerate > 0) {
     stats.degenerate_triangles += degenerate;
     s.warnings.push_back(file + ": cloth " + quote_input(o.name) + ": " + std::to_string(degenerate) +
@@ -206,6 +210,21 @@ void bake_scene(Scene& s, const Options& opt, Stats& stats) {
     const Object* o = find_object(s, want, stem);
     if (o == nullptr)
       throw InputError(file + ": no object " + quote_input(want) + " to give masses (-a); objects: " + object_list(s));
+    // a name two objects share (a repeated `g`): only its identifier tells them apart
+    if (want != o->identifier || want == o->name) {
+      std::size_t same = 0;
+      std::string ids;
+      for (const Object& x : s.objects)
+        if (x.name == o->name) ++same, ids += (ids.empty() ? "" : ", ") + x.identifier;
+      if (same > 1) {
+        std::string lines;
+        if (auto it = s.object_lines.find(o->name); it != s.object_lines.end())
+          for (std::size_t line : it->second) lines += (lines.empty() ? " (" : ", ") + file + ":" + std::to_string(line);
+        throw InputError(file + ": -a " + quote_input(want) + ": " + std::to_string(same) + " objects are named " +
+                         quote_input(o->name) + (lines.empty() ? "" : lines + ")") + "; select one by its identifier (" +
+                         ids + ") or rename them in the model");
+      }
+    }
     const auto idx = static_cast<std::uint32_t>(o - s.objects.data());
     if (std::find(chosen.begin(), chosen.end(), idx) == chosen.end()) chosen.push_back(idx);
   }

@@ -114,6 +114,8 @@ struct Scene {
   /// Points of `<OBJECT>_pins` helper objects (x y z ...), keyed by the helper's name;
   /// the helpers themselves are not emitted.
   std::map<std::string, std::vector<float>> pin_points;
+  /// OBJ: the lines where an object of each name starts (to tell a name given twice).
+  std::map<std::string, std::vector<std::size_t>> object_lines;
 };
 
 /// Milliseconds since `t0`, and resets `t0`.
@@ -167,12 +169,18 @@ struct OutputFile {
 std::vector<OutputFile> emit_scene(const Scene& scene, const Options& options);
 
 /// Writes all files atomically into `dir` (temp files, then renames; unchanged files are
-/// left alone). Returns how many files changed.
-int write_outputs(const std::filesystem::path& dir, const std::vector<OutputFile>& files);
+/// left alone), with `extra` files at their own paths (the depfile) in the same commit,
+/// published before the header. A character device or FIFO in an output's place is written
+/// into (never renamed over); any other non-regular file there is refused before anything is
+/// written. Returns how many files were replaced.
+int write_outputs(const std::filesystem::path& dir, const std::vector<OutputFile>& files,
+                  const std::vector<std::pair<std::filesystem::path, std::string>>& extra = {});
 
 /// Deletes `<name>.<hash>.bin` files in `dir` that are not in `keep` (older bakes' bulk data,
 /// after the new header is in place) and temp files of `name`'s outputs left by a killed run.
-void remove_stale_bins(const std::filesystem::path& dir, const std::string& name, const std::vector<OutputFile>& keep);
+/// Files in `protect` (the inputs) are never deleted.
+void remove_stale_bins(const std::filesystem::path& dir, const std::string& name, const std::vector<OutputFile>& keep,
+                       const std::vector<std::filesystem::path>& protect = {});
 
 /// FNV-1a 64 of bytes, as 16 hex digits.
 std::string hash_hex(const std::string& bytes);

@@ -1,5 +1,9 @@
 // import: the only code that parses model files (through assimp, after a light text check of .obj).
+#include <assimp/DefaultIOSystem.h>
+#include <assimp/DefaultLogger.hpp>
+#include <assimp/LogStream.hpp>
 #include <assimp/Importer.hpp>
+#include <assimp/MemoryIOWrapper.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
@@ -9,6 +13,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <set>
 #include <sstream>
 
 #include "converter.hpp"
@@ -47,6 +52,66 @@ Material read_material(const aiMaterial& m) {
     throw std::runtime_error("material " + quote_input(out.name) + " has a non-finite value");
   return out;
 }
+
+// What assimp reads: the model as the pre-scan cleaned it (when it did), and .obj/.mtl files
+// without a UTF-8 byte-order mark (assimp 5.2.5 would take it as part of the first statement).
+// Other files, and relative paths (mtllib, textures), go through the default file system.
+class CheckedIO : public Assimp::DefaultIOSystem {
+ public:
+  /// `replaced`: files assimp reads from these bytes instead (the pre-scan's cleaned text).
+  explicit CheckedIO(std::vector<std::pair<std::filesystem::path, std::string>> replaced)
+      : replaced_(std::move(replaced)) {}
+  Assimp::IOStream* Open(const char* path, const char* mode) override {
+    const std::string m = mode == nullptr ? "rb" : mode;
+    const bool reading = m.find_first_of("wa+") == std::string::npos;
+    std::error_code ec;
+    for (const auto& [file, text] : replaced_)
+      if (reading && std::filesystem::equivalent(path, file, ec))
+        return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
+    Assimp::IOStream* s = DefaultIOSystem::Open(path, mode);
+    const std::string ext = lower(std::filesystem::path(path).extension().string());
+    if (s == nullptr || !reading || (ext != ".obj" && ext != ".mtl")) return s;
+    const std::size_t size = s->FileSize();
+    char head[3] = {0, 0, 0};
+    if (size < 3 || s->Read(head, 1, 3) != 3 || std::memcmp(head, "\xEF\xBB\xBF", 3) != 0) {
+      s->Seek(0, aiOrigin_SET);
+      return s;
+    }
+    auto* bytes = new std::uint8_t[size - 3 + 1];
+    const std::size_t got = size > 3 ? s->Read(bytes, 1, size - 3) : 0;
+    DefaultIOSystem::Close(s);
+    return new Assimp::MemoryIOStream(bytes, got, true);
+  }
+
+ private:
+  std::vector<std::pair<std::filesystem::path, std::string>> replaced_;
+};
+
+// The errors assimp's importers log while they go on: for formats without the pre-scan they
+// mean repaired input (the OFF importer clamps a face index out of range to the last vertex).
+class AssimpErrors {
+ public:
+  AssimpErrors() {
+    Assimp::DefaultLogger::create(nullptr, Assimp::Logger::NORMAL, 0);
+    Assimp::DefaultLogger::get()->attachStream(new Capture(messages), Assimp::Logger::Err);
+  }
+  ~AssimpErrors() { Assimp::DefaultLogger::kill(); }
+  AssimpErrors(const AssimpErrors&) = delete;
+  AssimpErrors& operator=(const AssimpErrors&) = delete;
+  std::vector<std::string> messages;
+
+ private:
+  struct Capture : Assimp::LogStream {
+    explicit Capture(std::vector<std::string>& to) : out(to) {}
+    void write(const char* message) override {
+      std::string m = message;
+      if (m.rfind("Error, ", 0) == 0 && m.find(": ") != std::string::npos) m.erase(0, m.find(": ") + 2);
+      while (!m.empty() && (m.back() == '\n' || m.back() == '\r')) m.pop_back();
+      out.push_back(m);
+    }
+    std::vector<std::string>& out;
+  };
+};
 
 // `<OBJECT>_pins` helpers become pin points and leave the scene (their vertices too).
 void remove_pin_helpers(Scene& s) {
@@ -117,25 +182,34 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
     std::filesystem::path mtl;
   };
   std::vector<MapKdOf> map_kd;  // to report a missing texture at its .mtl line
+  std::vector<std::pair<std::filesystem::path, std::string>> replaced;  // what assimp reads instead
   if (is_obj) {
     scan = prescan_obj_file(file);
     out.timings_ms.emplace_back("pre-scan", lap_ms(t0));
+    std::set<std::string> defined;  // materials of the libraries read
+    bool library_missing = false;
     for (std::size_t i = 0; i < scan.mtllibs.size(); ++i) {
       const std::string& lib = scan.mtllibs[i];
       const auto p = folder / lib;
       const std::string where = file.string() + ":" + std::to_string(scan.mtllib_lines[i]) + ": ";
       auto check_mtl = [&](const std::filesystem::path& mtl) {
+        MtlScan m;
         try {
-          for (MapKd& m : prescan_mtl_file(mtl)) map_kd.push_back({std::move(m), mtl});
+          m = prescan_mtl_file(mtl);
         } catch (const InputError& e) {
           throw InputError(std::string(e.what()) + " (material library of " + file.filename().string() + ")");
         }
+        for (MapKd& k : m.maps) map_kd.push_back({std::move(k), mtl});
+        defined.insert(m.materials.begin(), m.materials.end());
+        out.warnings.insert(out.warnings.end(), m.warnings.begin(), m.warnings.end());
+        if (m.cleaned) replaced.emplace_back(mtl, std::move(m.clean_text));
         out.inputs_read.push_back(std::filesystem::absolute(mtl));
       };
       if (!std::filesystem::exists(p, ec)) {
         if (!allow_missing)
           throw InputError(where + "material library " + quote_input(lib) + " not found (" + p.string() +
                            "); --allow-missing converts without it");
+        library_missing = true;
         // assimp then reads <model>.mtl instead, when there is one: check that one.
         const auto fallback = folder / (file.stem().string() + ".mtl");
         if (std::filesystem::is_regular_file(fallback, ec)) {
@@ -153,19 +227,45 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
         throw InputError(where + "material library " + quote_input(lib) + " is not a readable file");
       check_mtl(p);
     }
+    // A `usemtl` no library defines: assimp invents a material of that name (grey); the
+    // file's author meant another. (Not repeated when a library was missing: that is warned.)
+    if (!library_missing)
+      for (const auto& [name, line] : scan.usemtl)
+        if (defined.count(name) == 0)
+          out.warnings.push_back(file.string() + ":" + std::to_string(line) + ": material " + quote_input(name) +
+                                 (scan.mtllibs.empty() ? " used but no 'mtllib' is given"
+                                                       : " is defined in no material library") +
+                                 "; its faces get a default (grey) material");
+    if (scan.cleaned) replaced.emplace_back(file, std::move(scan.clean_text));
     if (scan.lines_points > 0)
       out.warnings.push_back(file.string() + ": " + std::to_string(scan.lines_points) +
                              " line/point elements ignored (only faces are drawn)");
     out.pin_points = scan.pin_points;
+    out.object_lines = scan.object_lines;
+    out.warnings.insert(out.warnings.end(), scan.warnings.begin(), scan.warnings.end());
   }
 
   Assimp::Importer importer;
+  importer.SetIOHandler(new CheckedIO(std::move(replaced)));
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const aiScene* ai = importer.ReadFile(file.string(), import_flags());
-  if (ai == nullptr) {
-    std::string why = importer.GetErrorString();
-    while (!why.empty() && (why.back() == '\n' || why.back() == '\r')) why.pop_back();
-    throw InputError(file.string() + ": cannot import: " + (why.empty() ? "unknown error" : why));
+  const aiScene* ai = nullptr;
+  {
+    AssimpErrors errors;
+    ai = importer.ReadFile(file.string(), import_flags());
+    if (ai == nullptr) {
+      std::string why = importer.GetErrorString();
+      while (!why.empty() && (why.back() == '\n' || why.back() == '\r')) why.pop_back();
+      throw InputError(file.string() + ": cannot import: " + (why.empty() ? "unknown error" : why));
+    }
+    // (OBJ input went through the pre-scan; assimp's errors there are warned or refused above.)
+    // Other formats: an index out of range that assimp "repaired" would be a silently wrong
+    // mesh: refused; assimp's other errors (a default material, an extra layer) are warnings.
+    if (!is_obj)
+      for (const std::string& m : errors.messages) {
+        if (m.find("out of range") != std::string::npos)
+          throw InputError(file.string() + ": cannot import: " + m + " (assimp would change the index; refused)");
+        out.warnings.push_back(file.string() + ": assimp: " + m);
+      }
   }
   out.timings_ms.emplace_back("assimp", lap_ms(t0));
   if ((ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || ai->mNumMeshes == 0 || ai->mRootNode == nullptr)
@@ -275,7 +375,8 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
       // corners with bit-identical position, normal and texcoord become one vertex, in order
       // of first use. (assimp's JoinIdenticalVertices merges within 1e-5 and costs 1.7 s and
       // 300 MB on a 1M-triangle OBJ; see docs/blender2ogl.md.)
-      bool bad_normal = false;
+      std::vector<char> bad_normal(mesh->mNumVertices, 0);
+      std::size_t bad_normals = 0;
       std::vector<float> corner(8 * static_cast<std::size_t>(mesh->mNumVertices));
       for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
         aiVector3D p = mesh->mVertices[v];
@@ -284,9 +385,12 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
         if (moved) p = transform * p;
         aiVector3D n = mesh->mNormals != nullptr ? mesh->mNormals[v] : aiVector3D(0, 0, 0);
         if (moved) n = (normal_matrix * n).NormalizeSafe();
-        if (!finite3(n)) {
-          n = aiVector3D(0, 0, 0);  // a generated normal of a degenerate face
-          bad_normal = true;
+        // none (a face without `vn` among faces with), zero (`vn 0 0 0`) or non-finite (a
+        // normal assimp generated for a degenerate face): computed from the faces below
+        if (!finite3(n) || (n.x == 0.0f && n.y == 0.0f && n.z == 0.0f)) {
+          n = aiVector3D(0, 0, 0);
+          bad_normal[v] = 1;
+          ++bad_normals;
         }
         float u = 0.0f, w = 0.0f;
         if (mesh->HasTextureCoords(0)) {
@@ -298,8 +402,47 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
         const float attrs[8] = {p.x, p.y, p.z, n.x, n.y, n.z, u, w};
         std::memcpy(&corner[8 * static_cast<std::size_t>(v)], attrs, sizeof attrs);
       }
-      if (bad_normal)
-        out.warnings.push_back(file.string() + ": object " + quote_input(obj.name) + ": some normals could not be generated (degenerate faces); set to zero");
+      if (bad_normals > 0) {
+        // The normalized, area-weighted sum of the normals of the faces using the vertex (the
+        // face's normal when only one does); (0, 0, 1) when those faces have no area.
+        std::vector<double> sum(3 * static_cast<std::size_t>(mesh->mNumVertices), 0.0);
+        for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+          const aiFace& face = mesh->mFaces[f];
+          if (face.mNumIndices != 3) continue;
+          bool any = false;
+          for (unsigned c = 0; c < 3; ++c) any = any || (face.mIndices[c] < mesh->mNumVertices && bad_normal[face.mIndices[c]]);
+          if (!any || face.mIndices[0] >= mesh->mNumVertices || face.mIndices[1] >= mesh->mNumVertices ||
+              face.mIndices[2] >= mesh->mNumVertices)
+            continue;
+          const float* a = &corner[8 * static_cast<std::size_t>(face.mIndices[0])];
+          const float* b = &corner[8 * static_cast<std::size_t>(face.mIndices[1])];
+          const float* d = &corner[8 * static_cast<std::size_t>(face.mIndices[2])];
+          const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+          const double e2[3] = {double(d[0]) - a[0], double(d[1]) - a[1], double(d[2]) - a[2]};
+          const double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+          for (unsigned c = 0; c < 3; ++c)
+            if (bad_normal[face.mIndices[c]])
+              for (int j = 0; j < 3; ++j) sum[3 * static_cast<std::size_t>(face.mIndices[c]) + static_cast<std::size_t>(j)] += cr[j];
+        }
+        std::size_t undefined = 0;
+        for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+          if (!bad_normal[v]) continue;
+          const double* q = &sum[3 * static_cast<std::size_t>(v)];
+          const double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+          float nn[3] = {0.0f, 0.0f, 1.0f};
+          if (len > 0.0 && std::isfinite(len))
+            for (int j = 0; j < 3; ++j) nn[j] = static_cast<float>(q[j] / len);
+          if (!(std::isfinite(nn[0]) && std::isfinite(nn[1]) && std::isfinite(nn[2])) ||
+              (nn[0] == 0.0f && nn[1] == 0.0f && nn[2] == 0.0f) || !(len > 0.0 && std::isfinite(len))) {
+            nn[0] = nn[1] = 0.0f, nn[2] = 1.0f;
+            ++undefined;
+          }
+          std::memcpy(&corner[8 * static_cast<std::size_t>(v) + 3], nn, sizeof nn);
+        }
+        out.warnings.push_back(file.string() + ": object " + quote_input(obj.name) + ": " + std::to_string(bad_normals) +
+                               " missing, zero or non-finite normals computed from the faces" +
+                               (undefined > 0 ? " (" + std::to_string(undefined) + " on faces without area set to (0, 0, 1))" : ""));
+      }
       std::size_t table_size = 16;
       while (table_size < 2ull * mesh->mNumVertices) table_size *= 2;
       constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();

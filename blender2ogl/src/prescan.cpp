@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <map>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -88,10 +89,19 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   std::string_view rest(text);
   if (rest.size() >= 2 && ((rest[0] == '\xFE' && rest[1] == '\xFF') || (rest[0] == '\xFF' && rest[1] == '\xFE')))
     fail(file, 1, "UTF-16 text is not supported; save the file as UTF-8 (Blender does)");
-  if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);
+  // A UTF-8 byte-order mark: assimp would read it as part of the first statement (and drop
+  // that statement); it gets the text without it.
+  std::vector<std::pair<std::size_t, std::size_t>> cuts;  // (offset, length) left out for assimp
+  if (rest.substr(0, 3) == "\xEF\xBB\xBF") {
+    rest.remove_prefix(3);
+    cuts.emplace_back(0, 3);
+  }
 
   std::size_t line_no = 0;
   std::string current_group;
+  // assimp's OBJ state, to catch names it would resolve to the wrong object: the object that
+  // takes faces (the last `o`/`g` that made or found one) and the active group (`g` only).
+  std::string owner, intended, active_group, misplaced;  // misplaced: why owner != intended
   bool in_pin_object = false;
   std::string joined;
   std::vector<std::string_view> tok;
@@ -108,6 +118,9 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     while (continued && !joined.empty() && (joined.back() == '\\' || (joined.back() == '\r' && joined.size() > 1 && joined[joined.size() - 2] == '\\')) && !rest.empty()) {
       joined.erase(joined.rfind('\\'));
       nl = rest.find('\n');
+      // assimp joins a continuation with the next line that is not empty: another line than here
+      if (rest.substr(0, nl).find_first_not_of(" \t\r\f\v") == std::string_view::npos)
+        fail(file, start_line, "line continuation ('\\' at the end) followed by an empty line");
       joined.append(rest.substr(0, nl));
       rest = (nl == std::string_view::npos) ? std::string_view() : rest.substr(nl + 1);
       ++line_no;
@@ -150,6 +163,16 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     }
     if (tok.empty()) continue;
     const std::string_view key = tok[0];
+    // A comment after the numbers of a v/vt/vn/f/l/p statement: assimp would read it as
+    // numbers (f 1 2 3 # x: "Invalid face index"); it is given the line without it.
+    if (end < body_all.size() && (key == "v" || key == "vt" || key == "vn" || key == "vp" || key == "f" ||
+                                  key == "fo" || key == "l" || key == "p")) {
+      if (continued) fail(file, start_line, "a comment on a continued line ('\\' at the end) is not supported");
+      const std::size_t from = static_cast<std::size_t>(tok.back().data() + tok.back().size() - text.data());
+      std::size_t to = static_cast<std::size_t>(line.data() + line.size() - text.data());
+      if (!line.empty() && line.back() == '\r') --to;
+      cuts.emplace_back(from, to - from);
+    }
     double values[4] = {0, 0, 0, 0};
     auto numbers = [&](std::size_t min_count, const char* what) -> const double* {
       if (tok.size() - 1 < min_count)
@@ -166,8 +189,17 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       }
       return values;
     };
+    // Counts assimp reads right; others it misreads (a vertex skipped: later indices shift)
+    // or refuses without a line. Nothing else may follow the numbers.
+    auto count_in = [&](std::initializer_list<std::size_t> allowed, const char* what) {
+      for (std::size_t n : allowed)
+        if (tok.size() - 1 == n) return;
+      fail(file, start_line, quote_input(key) + " takes " + what + ", found " + std::to_string(tok.size() - 1));
+    };
     if (key == "v") {
       const double* v = numbers(3, "coordinates");
+      count_in({3, 4, 6}, "3 coordinates (x y z), 4 (x y z w) or 6 (x y z r g b)");
+      if (tok.size() == 5 && std::strtod(std::string(tok[4]).c_str(), nullptr) == 0.0) fail(file, start_line, "'v' with w = 0 (a point at infinity)");
       ++scan.positions;
       if (in_pin_object) {
         // (the values are only parsed here: pin points need them, nothing else does)
@@ -179,9 +211,11 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       }
     } else if (key == "vt") {
       numbers(1, "coordinate");
+      count_in({2, 3}, "2 coordinates (u v) or 3 (u v w)");
       ++scan.texcoords;
     } else if (key == "vn") {
       numbers(3, "coordinates");
+      count_in({3}, "3 coordinates (x y z)");
       ++scan.normals;
     } else if (key == "vp") {
       numbers(1, "coordinate");
@@ -194,6 +228,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       for (std::size_t k = 1; k < tok.size(); ++k) {
         const std::string_view ref = tok[k];
         std::size_t part = 0, pos = 0;
+        bool ended = false;  // else a 3rd slash follows the 3 fields ("1/1/1/1")
         while (part < 3) {
           const std::size_t slash = ref.find('/', pos);
           const std::string_view field = ref.substr(pos, slash == std::string_view::npos ? std::string_view::npos : slash - pos);
@@ -209,12 +244,16 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
                                          " defined so far)");
           }
           ++part;
-          if (slash == std::string_view::npos) break;
+          if (slash == std::string_view::npos) {
+            ended = true;
+            break;
+          }
           pos = slash + 1;
         }
-        if (part > 3 || (pos < ref.size() && ref.find('/', pos) != std::string_view::npos))
+        if (!ended || (pos < ref.size() && ref.find('/', pos) != std::string_view::npos))
           fail(file, start_line, "malformed vertex reference " + quote_input(ref));
       }
+      if (face && owner != intended) throw InputError(misplaced);
       if (face) ++scan.faces; else ++scan.lines_points;
     } else if (key == "o" || key == "g") {
       ++scan.groups;
@@ -226,6 +265,43 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
         fail(file, start_line, "object name longer than 1023 bytes (" + std::to_string(current_group.size()) + "): " +
                                    quote_input(current_group));
       in_pin_object = is_pin_object_name(current_group);
+      // Repeated names. assimp 5.2.5 finds an `o` name it has seen (from `o` or `g`) and makes
+      // that object current but keeps adding faces to the mesh before it ("owner"); a `g` equal
+      // to the active group is ignored, so after an `o` in between its faces go to that `o`'s
+      // object. A face read while the owner is not the object the file names is refused, at
+      // the line that named it. A `g` repeated after another group makes a second object of
+      // that name (its faces are right): a warning.
+      const std::string& name = current_group;
+      auto seen = scan.object_lines.find(name);
+      const std::string first =
+          seen == scan.object_lines.end() ? "" : " (first at line " + std::to_string(seen->second.front()) + ")";
+      const std::string where = file.string() + ":" + std::to_string(start_line) + ": ";
+      if (name.empty() || name == intended) {
+        // a continuation (an empty name is left to assimp as before; a `g` with the current
+        // object's name makes an object of the same name, which the import joins to it)
+        if (key == "g" && !name.empty()) active_group = name;
+      } else if (key == "o" && seen != scan.object_lines.end()) {
+        intended = name;
+        misplaced = where + "object name " + quote_input(name) + " repeated" + first + ": assimp would give its faces to " +
+                    quote_input(owner) + "; give each object its own name";
+      } else if (key == "g" && name == active_group) {
+        intended = name;
+        misplaced = where + "group " + quote_input(name) + " repeated" + first + " after object " + quote_input(owner) +
+                    ": assimp would give its faces to " + quote_input(owner) + "; give each object its own name";
+      } else {
+        if (seen != scan.object_lines.end())
+          scan.warnings.push_back(where + "group " + quote_input(name) + " repeated" + first +
+                                  ": kept as another object of the same name");
+        scan.object_lines[name].push_back(start_line);
+        owner = intended = name;
+        if (key == "g") active_group = name;
+      }
+    } else if (key == "usemtl") {
+      // as assimp reads it: the rest of the line, comment included, trimmed
+      std::string name(body_all.substr(static_cast<std::size_t>(key.data() + key.size() - body_all.data())));
+      const std::size_t a = name.find_first_not_of(" \t\r\f\v"), b = name.find_last_not_of(" \t\r\f\v");
+      name = a == std::string::npos ? std::string() : name.substr(a, b - a + 1);
+      if (!name.empty()) scan.usemtl.emplace_back(name, start_line);
     } else if (key == "mtllib") {
       // A name may hold spaces; assimp takes the rest of the line.
       const std::string_view body = body_all.substr(0, end);
@@ -236,13 +312,25 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       scan.mtllib_lines.push_back(start_line);
     }
   }
+  if (!cuts.empty()) {
+    scan.cleaned = true;
+    scan.clean_text.reserve(text.size());
+    std::size_t from = 0;
+    for (const auto& [at, length] : cuts) {
+      scan.clean_text.append(text, from, at - from);
+      from = at + length;
+    }
+    scan.clean_text.append(text, from, std::string::npos);
+  }
   if (scan.positions == 0) throw InputError(file.string() + ": no vertices (empty or not an OBJ file)");
   if (scan.faces == 0) throw InputError(file.string() + ": no faces: nothing to draw (points and lines are not supported)");
   return scan;
 }
 
-std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file) {
-  std::vector<MapKd> maps;
+MtlScan prescan_mtl_file(const std::filesystem::path& file) {
+  MtlScan scan;
+  std::vector<MapKd>& maps = scan.maps;
+  std::map<std::string, std::size_t> defined;  // name -> first line
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string() + ": cannot open: " + std::strerror(errno));
   std::string line;
@@ -250,6 +338,13 @@ std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file) {
   bool in_material = false;
   while (std::getline(in, line)) {
     ++line_no;
+    // a UTF-8 byte-order mark (assimp is given the file without it)
+    if (line_no == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) {
+      line.erase(0, 3);
+      scan.cleaned = true;
+    }
+    const std::size_t clean_from = scan.clean_text.size();
+    scan.clean_text.append(line).push_back('\n');
     std::vector<std::string_view> tok;
     std::size_t start = std::string::npos;
     for (std::size_t i = 0; i <= line.size(); ++i) {
@@ -273,6 +368,16 @@ std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file) {
     const std::string_view key = tok[0];
     if (key == "newmtl") {
       in_material = true;
+      // as assimp reads it: the rest of the line, trimmed ("newmtl" alone: its default name)
+      std::string name = line.substr(static_cast<std::size_t>(tok[0].data() + tok[0].size() - line.data()));
+      const std::size_t a = name.find_first_not_of(" \t\r"), b = name.find_last_not_of(" \t\r");
+      name = a == std::string::npos ? std::string("DefaultMaterial") : name.substr(a, b - a + 1);
+      if (auto [it, added] = defined.try_emplace(name, line_no); !added)
+        scan.warnings.push_back(file.string() + ":" + std::to_string(line_no) + ": material " + quote_input(name) +
+                                " defined again (first at line " + std::to_string(it->second) +
+                                "); assimp merges the two, the later values win");
+      else
+        scan.materials.push_back(name);
       continue;
     }
     if (!in_material) fail(file, line_no, quote_input(key) + " before any 'newmtl'");
@@ -283,19 +388,41 @@ std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file) {
       while (!arg.empty() && (arg.back() == ' ' || arg.back() == '\t' || arg.back() == '\r')) arg.pop_back();
       maps.push_back({arg, line_no});
     }
-    if (key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf" || key == "Ns" || key == "d" ||
-        key == "Tr" || key == "Ni") {
+    const bool color = key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf";
+    if (color || key == "Ns" || key == "d" || key == "Tr" || key == "Ni") {
       for (std::size_t k = 1; k < tok.size(); ++k) {
         double v = 0;
+        if (tok[k][0] == '#') {
+          tok.resize(k);  // a comment
+          break;
+        }
         if (parse_number(tok[k], v)) {
           if (!std::isfinite(v)) fail(file, line_no, "number out of range " + quote_input(tok[k]));
         } else if (is_number_like(tok[k])) {
           fail(file, line_no, "non-finite value " + quote_input(tok[k]));
+        } else {
+          // (assimp would fail with "Cannot parse string" naming neither file nor line)
+          fail(file, line_no, "malformed number " + quote_input(tok[k]) + " in " + quote_input(key));
         }
+      }
+      // assimp reads 3 numbers for a color (a missing one fails it) and 1 for the others
+      const std::size_t n = tok.size() - 1;
+      if (color && n != 3 && n != 1)
+        fail(file, line_no, quote_input(key) + " takes 3 numbers (r g b) or 1 (grey), found " + std::to_string(n));
+      if (!color && n != 1) fail(file, line_no, quote_input(key) + " takes 1 number, found " + std::to_string(n));
+      // One number is a grey (the MTL spec: g = b = r); assimp would read (r, 0, 0).
+      if (color && n == 1) {
+        std::string grey(key);
+        for (int k = 0; k < 3; ++k) grey.append(" ").append(tok[1]);
+        if (!line.empty() && line.back() == '\r') grey.push_back('\r');
+        scan.clean_text.resize(clean_from);
+        scan.clean_text.append(grey).push_back('\n');
+        scan.cleaned = true;
       }
     }
   }
-  return maps;
+  if (!scan.cleaned) scan.clean_text.clear();
+  return scan;
 }
 
 bool is_pin_object_name(const std::string& name) {

@@ -14,6 +14,16 @@ struct ObjScan {
   /// Vertices written under an `o`/`g` named `<OBJECT>_pins` or `<OBJECT>.pins` (x y z ...):
   /// assimp drops objects without faces, so pin helpers made of loose vertices are read here.
   std::map<std::string, std::vector<float>> pin_points;
+  /// The lines where an object of each name starts (a name on several lines: repeated `g`).
+  std::map<std::string, std::vector<std::size_t>> object_lines;
+  /// "file:line: what" (reported as warnings)
+  std::vector<std::string> warnings;
+  /// `usemtl` statements: the name as assimp reads it (the rest of the line) and the line.
+  std::vector<std::pair<std::string, std::size_t>> usemtl;
+  /// The bytes assimp is given instead of the file's when they differ (a UTF-8 byte-order
+  /// mark removed); empty: the file as it is.
+  std::string clean_text;
+  bool cleaned = false;
 };
 
 /// Throws InputError ("file:line: what") on text assimp would misread.
@@ -27,7 +37,16 @@ struct MapKd {
   std::string argument;
   std::size_t line = 0;
 };
-std::vector<MapKd> prescan_mtl_file(const std::filesystem::path& file);
+struct MtlScan {
+  std::vector<MapKd> maps;
+  std::vector<std::string> materials;  ///< `newmtl` names as assimp reads them
+  std::vector<std::string> warnings;   ///< "file:line: what"
+  /// The bytes assimp is given instead of the file's when they differ (a byte-order mark
+  /// removed, a one-number color `Kd 1` written out as `Kd 1 1 1`).
+  std::string clean_text;
+  bool cleaned = false;
+};
+MtlScan prescan_mtl_file(const std::filesystem::path& file);
 
 bool is_pin_object_name(const std::string& name);
 /// "Cloth_pins" -> "Cloth"

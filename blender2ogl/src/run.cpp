@@ -18,6 +18,25 @@ std::string depfile_escape(const std::string& p) {
   return out;
 }
 
+// Refuses an output that is one of the inputs (`--depfile m.obj`, `mtllib m.h` in the target
+// folder): by identity (same file, through links) when it exists, else by canonical path.
+void check_outputs_are_not_inputs(const std::vector<std::filesystem::path>& outputs,
+                                  const std::vector<std::filesystem::path>& inputs) {
+  namespace fs = std::filesystem;
+  for (const fs::path& out : outputs) {
+    std::error_code ec;
+    const bool exists = fs::exists(out, ec);
+    const fs::path canon = fs::weakly_canonical(fs::absolute(out, ec), ec);
+    for (const fs::path& in : inputs) {
+      std::error_code ec2;
+      const bool same = exists ? fs::equivalent(out, in, ec2) : canon == fs::weakly_canonical(in, ec2);
+      if (same)
+        throw UsageError(out.string() + ": an output would overwrite the input " + in.string() +
+                         "; choose another target folder (-t), name (-n) or --depfile");
+    }
+  }
+}
+
 }  // namespace
 
 int run(const Options& opt, std::ostream& log) {
@@ -31,18 +50,27 @@ int run(const Options& opt, std::ostream& log) {
   const auto files = emit_scene(scene, opt);
   scene.timings_ms.emplace_back("emit", lap_ms(t1));
   const std::filesystem::path dir = opt.target_dir.empty() ? opt.input.parent_path() : opt.target_dir;
-  const int changed = write_outputs(dir.empty() ? std::filesystem::path(".") : dir, files);
-  remove_stale_bins(dir.empty() ? std::filesystem::path(".") : dir, scene.name, files);
-  scene.timings_ms.emplace_back("write", lap_ms(t1));
-
+  const std::filesystem::path out_dir = dir.empty() ? std::filesystem::path(".") : dir;
+  // The depfile is part of the commit: written to a temp file with the others and renamed
+  // before the header, so a depfile that cannot be written changes nothing.
+  std::vector<std::pair<std::filesystem::path, std::string>> extra;
   if (!opt.depfile.empty()) {
     // Makefile syntax for the build tool: the header depends on every file read.
     std::string text = depfile_escape((std::filesystem::absolute(dir) / files.front().name).string()) + ":";
     for (const auto& p : scene.inputs_read) text += " \\\n  " + depfile_escape(p.string());
     text += "\n";
-    write_outputs(opt.depfile.parent_path().empty() ? "." : opt.depfile.parent_path(),
-                  {{opt.depfile.filename().string(), text}});
+    extra.emplace_back(opt.depfile, std::move(text));
   }
+  {
+    std::vector<std::filesystem::path> outputs;
+    for (const OutputFile& f : files) outputs.push_back(out_dir / f.name);
+    if (!opt.depfile.empty()) outputs.push_back(opt.depfile);
+    check_outputs_are_not_inputs(outputs, scene.inputs_read);
+  }
+  const int changed = write_outputs(out_dir, files, extra);
+  remove_stale_bins(out_dir, scene.name, files, scene.inputs_read);
+  scene.timings_ms.emplace_back("write", lap_ms(t1));
+
   if (opt.combined && scene.positions.size() / 3 > 100000)
     scene.warnings.push_back(opt.input.string() + ": " + std::to_string(scene.positions.size() / 3) +
                              " vertices as text (-c) compile slowly; the default (-s) links them as bytes");
@@ -68,7 +96,7 @@ int run(const Options& opt, std::ostream& log) {
         << "  springs    " << structural + bend << " (" << structural << " structural, " << bend << " bend)\n"
         << "  pins       " << pins << "\n"
         << "  warnings   " << scene.warnings.size() << "\n"
-        << "  files      " << files.size() << " (" << changed << " changed, " << bytes << " bytes)\n"
+        << "  files      " << files.size() + extra.size() << " (" << changed << " changed, " << bytes << " bytes)\n"
         << "  time       " << ms << " ms (";
     for (std::size_t i = 0; i < scene.timings_ms.size(); ++i)
       log << (i ? ", " : "") << scene.timings_ms[i].first << " " << static_cast<long>(scene.timings_ms[i].second);

@@ -196,3 +196,61 @@ TEST(Import, TextureNextToAMtlInASubfolder) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace b2o::test;
+
+// A UTF-8 byte-order mark at the start of the .obj or the .mtl is no part of the first
+// statement: `o Cloth` keeps its name, `mtllib` its materials, `newmtl` its material
+// (assimp is given the text without it).
+TEST(Import, Utf8ByteOrderMarkInObjAndMtl) {
+  const auto dir = scratch("import_bom");
+  write_file(dir / "a.obj", "\xEF\xBB\xBFo Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  auto s = b2o::conv::import_scene(dir / "a.obj", false, true);
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0].name, "Cloth");
+  write_file(dir / "sub" / "b.obj", "\xEF\xBB\xBFmtllib b.mtl\no Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Red\nf 1 2 3\n");
+  write_file(dir / "sub" / "b.mtl", "\xEF\xBB\xBFnewmtl Red\nKd 1 0.5 0\n");
+  s = b2o::conv::import_scene(dir / "sub" / "b.obj", false, false);
+  EXPECT_TRUE(s.warnings.empty());
+  ASSERT_EQ(s.materials.size(), 1u);
+  EXPECT_EQ(s.materials[0].name, "Red");
+  EXPECT_EQ(s.materials[0].diffuse[1], 0.5f);
+  ASSERT_EQ(s.submeshes.size(), 1u);
+  EXPECT_EQ(s.submeshes[0].material, 0);
+}
+
+}  // namespace
+
+namespace {
+
+using namespace b2o::test;
+
+// No zero or non-finite normal reaches the scene: a face without `vn` among faces with, a
+// `vn 0 0 0`, and a degenerate face get normals from their faces (a warning), (0, 0, 1) when
+// the faces have no area.
+TEST(Import, MissingZeroAndDegenerateNormalsAreComputed) {
+  const auto dir = scratch("import_zero_normals");
+  const std::vector<std::string> files = {
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\nf 2 4 3\n",
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 0\nf 1//1 2//1 3//1\n",
+      "v 0 0 0\nv 0 1 0\nv 1 0 0\nvn 0 0 0\nf 1//1 2//1 3//1\n",  // clockwise: -z
+      "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n",
+  };
+  const float expect_z[] = {1.0f, 1.0f, -1.0f, 1.0f};
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    write_file(dir / "m.obj", files[i]);
+    const auto s = b2o::conv::import_scene(dir / "m.obj", false);
+    ASSERT_FALSE(s.normals.empty());
+    for (std::size_t v = 0; v < s.normals.size(); v += 3) {
+      EXPECT_EQ(s.normals[v], 0.0f) << files[i] << v;
+      EXPECT_EQ(s.normals[v + 1], 0.0f) << files[i] << v;
+      EXPECT_EQ(s.normals[v + 2], expect_z[i]) << files[i] << v;
+    }
+    ASSERT_EQ(s.warnings.size(), 1u) << files[i];
+    EXPECT_NE(s.warnings[0].find("normals computed from the faces"), std::string::npos) << s.warnings[0];
+  }
+}
+
+}  // namespace
