@@ -3,11 +3,15 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -21,8 +25,9 @@ struct Result {
   std::string output;  // stdout + stderr
 };
 
-Result run(const std::string& args) {
-  const std::string cmd = std::string("'") + CLOTHSIM_DICE_EXE + "' " + args + " 2>&1";
+// `shell_prefix`: shell commands run first (e.g. "cd DIR && ", "ulimit -f 0; ").
+Result run(const std::string& args, const std::string& shell_prefix = "") {
+  const std::string cmd = shell_prefix + "'" + CLOTHSIM_DICE_EXE + "' " + args + " 2>&1";
   Result r;
   FILE* p = ::popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -44,6 +49,36 @@ nlohmann::json read_json(const fs::path& p) {
   std::ifstream in(p);
   return nlohmann::json::parse(in);
 }
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::string text, line;
+  while (std::getline(in, line)) text += line + "\n";
+  return text;
+}
+
+long entries(const fs::path& d) { return std::distance(fs::directory_iterator(d), fs::directory_iterator{}); }
+
+// 'p' for the shell (built in steps: g++ 12 warns falsely on "'" + p.string() + "'")
+std::string q(const fs::path& p) {
+  std::string s = p.string();
+  s.insert(0, 1, '\'');
+  s += '\'';
+  return s;
+}
+
+// A character device like /dev/null (minor 3) or /dev/full (minor 7) of our own; the tests
+// never touch the real ones. False when mknod is not permitted.
+bool make_char_device(const fs::path& p, unsigned minor) {
+  return ::mknod(p.c_str(), S_IFCHR | 0666, makedev(1, minor)) == 0;
+}
+
+bool is_char_device(const fs::path& p) {
+  struct stat st {};
+  return ::stat(p.c_str(), &st) == 0 && S_ISCHR(st.st_mode);
+}
+
+int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
 TEST(Cli, HelpExitsZeroAndListsDefaultsAndTheSceneValues) {
   const Result r = run("--help");
@@ -86,6 +121,57 @@ TEST(Cli, ReportIntoAMissingFolderIsRefusedBeforeRunning) {
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("does not exist"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::is_empty(d));
+}
+
+// A directory named as the report: refused before the run (exit 2), whichever way it is
+// spelled, and left as it was (it used to exit 0 with no report and no word).
+TEST(Cli, ReportIntoADirectoryIsRefusedBeforeRunning) {
+  const fs::path d = fresh_dir("report_dir");
+  fs::create_directory(d / "somedir");
+  for (const std::string where : {"somedir", "somedir/", ".", "./somedir/."}) {
+    const Result r = run("--headless --quiet --steps 50 --report '" + where + "'", "cd " + q(d) + " && ");
+    EXPECT_EQ(r.code, 2) << where << ": " << r.output;
+    EXPECT_NE(r.output.find(q(where) + " is a directory"), std::string::npos) << r.output;
+    EXPECT_EQ(lines(r.output), 1) << r.output;
+  }
+  EXPECT_TRUE(fs::is_empty(d / "somedir"));
+  EXPECT_EQ(entries(d), 1);
+}
+
+// A device (our own /dev/null) is written into, not replaced by a regular file.
+TEST(Cli, ReportIntoADeviceWritesThroughItAndKeepsIt) {
+  const fs::path d = fresh_dir("report_null");
+  if (!make_char_device(d / "mynull", 3)) GTEST_SKIP() << "mknod not permitted: " << std::strerror(errno);
+  const Result r = run("--headless --quiet --steps 20 --report " + q(d / "mynull"));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(is_char_device(d / "mynull")) << "the device was replaced";
+  EXPECT_EQ(entries(d), 1) << "a temporary file was left";
+}
+
+// A full device (our own /dev/full): an I/O error naming it, exit 1, the device kept.
+TEST(Cli, ReportIntoAFullDeviceIsAnIoError) {
+  const fs::path d = fresh_dir("report_full");
+  if (!make_char_device(d / "myfull", 7)) GTEST_SKIP() << "mknod not permitted: " << std::strerror(errno);
+  const Result r = run("--headless --quiet --steps 20 --report " + q(d / "myfull"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("myfull"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("No space left"), std::string::npos) << r.output;
+  EXPECT_EQ(lines(r.output), 1) << r.output;
+  EXPECT_TRUE(is_char_device(d / "myfull"));
+  EXPECT_EQ(entries(d), 1);
+}
+
+// A write that fails (a file size limit of 0 blocks: EFBIG, and SIGXFSZ, which used to kill
+// the program) is reported; the old report stays and no temporary file is left.
+TEST(Cli, FailedReportWriteKeepsTheOldReport) {
+  const fs::path d = fresh_dir("report_efbig");
+  { std::ofstream(d / "r.json") << "old\n"; }
+  const Result r = run("--headless --quiet --steps 20 --report " + q(d / "r.json"), "ulimit -f 0; ");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("r.json"), std::string::npos) << r.output;
+  EXPECT_EQ(lines(r.output), 1) << r.output;
+  EXPECT_EQ(slurp(d / "r.json"), "old\n");
+  EXPECT_EQ(entries(d), 1);
 }
 
 TEST(Cli, ReportHasTheKeys) {
@@ -142,6 +228,31 @@ TEST(Cli, ExportObjWritesEveryKSteps) {
   }
   EXPECT_EQ(files, 5);  // steps 0, 5, 10, 15, 20
   EXPECT_TRUE(fs::exists(d / "frames" / "dice_000020.obj"));
+}
+
+// A file where the OBJ directory should be: bad input before the run (exit 2).
+TEST(Cli, ExportObjIntoAFileIsRefusedBeforeRunning) {
+  const fs::path d = fresh_dir("obj_file");
+  { std::ofstream(d / "frames") << "not a directory\n"; }
+  for (const fs::path& where : {d / "frames", d / "frames" / "sub"}) {
+    const Result r = run("--headless --quiet --steps 20 --export-obj " + q(where));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("is not a directory"), std::string::npos) << r.output;
+    EXPECT_EQ(lines(r.output), 1) << r.output;
+  }
+  EXPECT_EQ(slurp(d / "frames"), "not a directory\n");
+}
+
+// An OBJ name taken by a directory: exit 1 and a message naming that file.
+TEST(Cli, ExportObjNamesTheFileItCannotWrite) {
+  const fs::path d = fresh_dir("obj_taken");
+  fs::create_directories(d / "frames" / "dice_000010.obj");
+  const Result r = run("--headless --quiet --steps 20 --export-every 5 --export-obj " + q(d / "frames"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("dice_000010.obj' is a directory"), std::string::npos) << r.output;
+  EXPECT_EQ(lines(r.output), 1) << r.output;
+  EXPECT_TRUE(fs::is_empty(d / "frames" / "dice_000010.obj"));
+  EXPECT_EQ(entries(d / "frames"), 3);  // steps 0 and 5 written, then the stop
 }
 
 TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {

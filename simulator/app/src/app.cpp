@@ -1,6 +1,7 @@
 #include "app.hpp"
 
 #include <clothsim/integrators.hpp>
+#include <clothsim/output_file.hpp>
 #include <clothsim/scene.hpp>
 #include <clothsim/stability.hpp>
 #include <clothsim/step.hpp>
@@ -22,7 +23,6 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <sstream>
@@ -78,31 +78,13 @@ json options_json(const Options& o) {
               {"integrator", to_string(o.integrator)}};
 }
 
-// temp file + rename: a reader never sees half a report.
-bool write_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return false;
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      return false;
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) fs::remove(tmp, ec);
-  return !ec;
-}
-
-bool export_obj(const fs::path& dir, const b2o::Scene& scene, const Model& model, const State& s) {
+// One OBJ file <dir>/<scene>_<step>.obj by the output rule (clothsim/output_file.hpp).
+// Returns empty or the error.
+std::string export_obj(const fs::path& dir, const b2o::Scene& scene, const Model& model, const State& s) {
   char name[64];
   std::snprintf(name, sizeof name, "%s_%06llu.obj", model.scene_name.c_str(),
                 static_cast<unsigned long long>(s.steps));
-  std::ofstream out(dir / name);
+  std::ostringstream out;
   out << "# clothsim " << CLOTHSIM_VERSION << ", t = " << s.t << " s, step " << s.steps << "\n";
   std::size_t base = 1;  // OBJ indices are 1-based and file-global
   for (const ClothRange& r : model.cloths) {
@@ -118,7 +100,7 @@ bool export_obj(const fs::path& dir, const b2o::Scene& scene, const Model& model
             << base + cloth->triangles[3 * t + 2] << "\n";
     base += r.mass_count;
   }
-  return static_cast<bool>(out);
+  return io::write_output_file((dir / name).string(), out.str());
 }
 
 class Progress {
@@ -174,7 +156,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   auto* o_g = app.add_option("--gravity", gravity, "Gravity, m/s^2, pointing down -Y");
   auto* o_eps = app.add_option("--epsilon", epsilon, "Collision band epsilon of eq. 12, m");
   auto* o_krep = app.add_option("--k-rep", k_rep, "Penalty stiffness k_rep of eq. 12, N/m");
-  app.add_option("--report", report, "Write a JSON report of the run to this file");
+  auto* o_report = app.add_option("--report", report, "Write a JSON report of the run to this file");
   auto* o_export = app.add_option("--export-obj", export_dir, "Write the cloth meshes as OBJ files into this directory");
   app.add_option("--export-every", export_every, "With --export-obj: every K steps (default 10)")->check(CLI::PositiveNumber);
   app.add_flag("--quiet", quiet, "No progress bar and no summary");
@@ -254,17 +236,19 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   if (o_seconds->count() && !(std::isfinite(seconds) && seconds >= 0.0))
     return bad_input("--seconds must be a finite number >= 0 (got " + fmt(seconds) + ")");
   if (o_steps->count() && steps == 0) return bad_input("--steps must be > 0");
-  if (!report.empty()) {
-    const fs::path parent = fs::path(report).parent_path();
-    if (!parent.empty() && !fs::is_directory(parent))
-      return bad_input("--report: directory '" + parent.string() + "' does not exist");
-  }
+  // Output paths before the (possibly long) run: a directory named as the report, or a file
+  // where the OBJ directory should be, is bad input found at once.
+  if (o_report->count())
+    if (const std::string why = io::check_output_file(report); !why.empty()) return bad_input("--report: " + why);
+  if (o_export->count())
+    if (const std::string why = io::check_output_dir(export_dir); !why.empty())
+      return bad_input("--export-obj: " + why);
   if (!quiet)
     for (const auto& k : unknown_params)
       std::cerr << "clothsim: note: scene '" << scene.name << "' bakes param '" << k << "', which is no simulator option\n";
 
 #ifdef CLOTHSIM_HAVE_VIEWER
-  if (!headless && (!report.empty() || o_export->count()))
+  if (!headless && (o_report->count() || o_export->count()))
     return bad_input("--report and --export-obj belong to headless runs: add --headless");
 #endif
 
@@ -318,7 +302,8 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     std::error_code ec;
     fs::create_directories(export_path, ec);
     if (ec || !fs::is_directory(export_path)) {
-      std::cerr << "clothsim: error: --export-obj: cannot create directory '" << export_dir << "'\n";
+      std::cerr << "clothsim: error: --export-obj: cannot create directory '" << export_dir << "'"
+                << (ec ? ": " + ec.message() : std::string()) << "\n";
       return kExitFailed;
     }
   }
@@ -331,10 +316,11 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   bool finite = true;
   std::chrono::steady_clock::duration step_time{};
   std::uint64_t failed_step = 0;
-  if (o_export->count() && !export_obj(export_path, scene, model, state)) {
-    std::cerr << "clothsim: error: --export-obj: cannot write into '" << export_dir << "'\n";
-    return kExitFailed;
-  }
+  if (o_export->count())
+    if (const std::string err = export_obj(export_path, scene, model, state); !err.empty()) {
+      std::cerr << "clothsim: error: --export-obj: " << err << "\n";
+      return kExitFailed;
+    }
   const std::clock_t cpu0 = std::clock();  // CPU time: robust to other processes on the machine
   for (std::uint64_t i = 0; i < total; ++i) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -346,10 +332,12 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
       failed_step = state.steps;
       break;
     }
-    if (o_export->count() && (i + 1) % export_every == 0 && !export_obj(export_path, scene, model, state)) {
-      std::cerr << "\nclothsim: error: --export-obj: cannot write into '" << export_dir << "'\n";
-      return kExitFailed;
-    }
+    if (o_export->count() && (i + 1) % export_every == 0)
+      if (const std::string err = export_obj(export_path, scene, model, state); !err.empty()) {
+        progress.finish();
+        std::cerr << "clothsim: error: --export-obj: " << err << "\n";
+        return kExitFailed;
+      }
     progress.update(i + 1, state.t);
   }
   progress.finish();
@@ -370,7 +358,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
               << " s). Likely cause: dt = " << opts.dt << " s is above the stability limit; the Gershgorin "
               << "estimate 2/omega_max is " << stable_dt << " s (lower --dt, or soften --k-struct/--k-rep)\n";
 
-  if (!report.empty()) {
+  if (o_report->count()) {
     json r;
     r["scene"] = model.scene_name;
     r["version"] = CLOTHSIM_VERSION;
@@ -396,8 +384,8 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     r["kinetic_energy"] = num(ke);
     r["stable_dt_estimate"] = num(stable_dt);
     r["options"] = options_json(opts);
-    if (!write_atomically(report, r.dump(2) + "\n")) {
-      std::cerr << "clothsim: error: --report: cannot write '" << report << "'\n";
+    if (const std::string err = io::write_output_file(report, r.dump(2) + "\n"); !err.empty()) {
+      std::cerr << "clothsim: error: --report: " << err << "\n";
       return kExitFailed;
     }
   }
