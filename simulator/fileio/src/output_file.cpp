@@ -42,6 +42,12 @@ std::string check_writable_dir(const std::string& dir) {
   return {};
 }
 
+// Empty, or why `path` cannot be created in `dir` (a temporary file goes there too).
+std::string in_writable_dir(const std::string& path, const std::string& dir) {
+  const std::string why = check_writable_dir(dir);
+  return why.empty() ? why : "cannot write " + quote(path) + ": " + why;
+}
+
 // While alive: SIGPIPE (a pipe or FIFO whose reader left) and SIGXFSZ (a file size limit)
 // are ignored, so write() fails with EPIPE / EFBIG instead of the process being killed.
 class IgnoreWriteSignals {
@@ -164,20 +170,20 @@ std::string check_output_file(const std::string& path) {
       if (!real) return "cannot write " + quote(path) + ": " + error_text(errno);
       const std::string target = real;
       std::free(real);
-      return check_writable_dir(parent_dir(target));
+      return in_writable_dir(path, parent_dir(target));
     }
-    return check_writable_dir(parent_dir(path));
+    return in_writable_dir(path, parent_dir(path));
   }
   const int e = errno;
   if (e != ENOENT) return "cannot write " + quote(path) + ": " + error_text(e);
   if (is_symlink(path)) return quote(path) + " is a symbolic link to a missing file";
   const std::string parent = parent_dir(path);
   if (::stat(parent.c_str(), &st) != 0) {
-    if (errno == ENOENT) return "directory " + quote(parent) + " does not exist";
+    if (errno == ENOENT) return "cannot write " + quote(path) + ": directory " + quote(parent) + " does not exist";
     return "cannot write " + quote(path) + ": " + error_text(errno);
   }
-  if (!S_ISDIR(st.st_mode)) return quote(parent) + " is not a directory";
-  return check_writable_dir(parent);
+  if (!S_ISDIR(st.st_mode)) return "cannot write " + quote(path) + ": " + quote(parent) + " is not a directory";
+  return in_writable_dir(path, parent);
 }
 
 std::string check_output_dir(const std::string& dir) {
