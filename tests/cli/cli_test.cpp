@@ -255,6 +255,24 @@ TEST(Cli, ExportObjNamesTheFileItCannotWrite) {
   EXPECT_EQ(entries(d / "frames"), 3);  // steps 0 and 5 written, then the stop
 }
 
+// The viewer's outputs are checked before the window opens (no display needed to see it):
+// a directory as the --screenshot PNG, a file as the --frames directory.
+TEST(Cli, ScreenshotOrFramesPathsAreCheckedBeforeRunning) {
+  const fs::path d = fresh_dir("viewer_paths");
+  fs::create_directory(d / "shot.png");
+  { std::ofstream(d / "frames") << "not a directory\n"; }
+  const Result shot = run("--seconds 1 --screenshot " + q(d / "shot.png"));
+  EXPECT_EQ(shot.code, 2) << shot.output;
+  EXPECT_NE(shot.output.find("shot.png' is a directory"), std::string::npos) << shot.output;
+  EXPECT_EQ(lines(shot.output), 1) << shot.output;
+  const Result frames = run("--seconds 1 --frames " + q(d / "frames"));
+  EXPECT_EQ(frames.code, 2) << frames.output;
+  EXPECT_NE(frames.output.find("is not a directory"), std::string::npos) << frames.output;
+  EXPECT_EQ(lines(frames.output), 1) << frames.output;
+  EXPECT_TRUE(fs::is_empty(d / "shot.png"));
+  EXPECT_EQ(entries(d), 2);
+}
+
 TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {
   const fs::path d = fresh_dir("blowup");
   // --substeps 1: take the step as asked (the default, auto, would substep under the limit)

@@ -170,8 +170,8 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   app.add_option("--substeps", substeps_text,
                  "auto: substep to stay under the stability limit (default); off: refuse a dt above it; "
                  "N: N substeps per step, as asked");
-  app.add_option("--screenshot", screenshot, "Viewer: render at --seconds, write this PNG and exit");
-  app.add_option("--frames", frames, "Viewer: write a PNG sequence into this directory up to --seconds");
+  auto* o_screenshot = app.add_option("--screenshot", screenshot, "Viewer: render at --seconds, write this PNG and exit");
+  auto* o_frames = app.add_option("--frames", frames, "Viewer: write a PNG sequence into this directory up to --seconds");
   app.add_option("--fps", fps, "Viewer: frames per simulated second for --frames (default 30)")->check(CLI::PositiveNumber);
   app.add_option("--width", width, "Viewer: window width (default 1280)")->check(CLI::PositiveNumber);
   app.add_option("--height", height, "Viewer: window height (default 720)")->check(CLI::PositiveNumber);
@@ -243,6 +243,11 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   if (o_export->count())
     if (const std::string why = io::check_output_dir(export_dir); !why.empty())
       return bad_input("--export-obj: " + why);
+  if (o_screenshot->count())
+    if (const std::string why = io::check_output_file(screenshot); !why.empty())
+      return bad_input("--screenshot: " + why);
+  if (o_frames->count())
+    if (const std::string why = io::check_output_dir(frames); !why.empty()) return bad_input("--frames: " + why);
   if (!quiet)
     for (const auto& k : unknown_params)
       std::cerr << "clothsim: note: scene '" << scene.name << "' bakes param '" << k << "', which is no simulator option\n";
@@ -288,7 +293,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     return run_viewer(scene, model, vo);
   }
 #else
-  if (!screenshot.empty() || !frames.empty())
+  if (o_screenshot->count() || o_frames->count())
     return bad_input("--screenshot/--frames need the viewer, and this clothsim was built without it");
 #endif
   (void)no_vsync;
