@@ -25,9 +25,9 @@ struct Result {
   std::string output;  // stdout + stderr
 };
 
-// `shell_prefix`: shell commands run first (e.g. "cd DIR && ", "ulimit -f 0; ").
-Result run(const std::string& args, const std::string& shell_prefix = "") {
-  const std::string cmd = shell_prefix + "'" + CLOTHSIM_DICE_EXE + "' " + args + " 2>&1";
+// `exe` with `args`; `shell_prefix`: shell commands run first (e.g. "cd DIR && ", "ulimit -f 0; ").
+Result run_program(const std::string& exe, const std::string& args, const std::string& shell_prefix = "") {
+  const std::string cmd = shell_prefix + "'" + exe + "' " + args + " 2>&1";
   Result r;
   FILE* p = ::popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -36,6 +36,10 @@ Result run(const std::string& args, const std::string& shell_prefix = "") {
   const int status = ::pclose(p);
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+Result run(const std::string& args, const std::string& shell_prefix = "") {
+  return run_program(CLOTHSIM_DICE_EXE, args, shell_prefix);
 }
 
 fs::path fresh_dir(const std::string& name) {
@@ -285,5 +289,39 @@ TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {
   EXPECT_LT(j["steps"].get<int>(), 2000);  // stopped at once, not after 1000 s
   EXPECT_GT(j["stable_dt_estimate"].get<double>(), 0.0);
 }
+
+#ifdef CLOTHSIM_WP_EXE
+// clothsim_wp (the work-precision tool) writes <out>/<scene>.csv and .svg by the same rule:
+// the paths are checked before the study (exit 2), a device is written through, never replaced.
+TEST(WorkPrecision, OutputPathsAreCheckedBeforeTheStudy) {
+  const fs::path d = fresh_dir("wp_paths");
+  { std::ofstream(d / "afile") << "x\n"; }
+  fs::create_directories(d / "out" / "hanging.csv");
+  const std::string study = "--fast --scene hanging --integrators symplectic-euler --out ";
+  const Result file = run_program(CLOTHSIM_WP_EXE, study + q(d / "afile"));
+  EXPECT_EQ(file.code, 2) << file.output;
+  EXPECT_NE(file.output.find("afile' is not a directory"), std::string::npos) << file.output;
+  EXPECT_EQ(lines(file.output), 1) << file.output;
+  const Result taken = run_program(CLOTHSIM_WP_EXE, study + q(d / "out"));
+  EXPECT_EQ(taken.code, 2) << taken.output;
+  EXPECT_NE(taken.output.find("hanging.csv' is a directory"), std::string::npos) << taken.output;
+  EXPECT_EQ(lines(taken.output), 1) << taken.output;
+  EXPECT_EQ(entries(d / "out"), 1);
+  const Result bogus = run_program(CLOTHSIM_WP_EXE, "--bogus");
+  EXPECT_EQ(bogus.code, 2) << bogus.output;
+}
+
+TEST(WorkPrecision, OutputsIntoDevicesAreWrittenThrough) {
+  const fs::path d = fresh_dir("wp_devices");
+  if (!make_char_device(d / "hanging.csv", 3) || !make_char_device(d / "hanging.svg", 7))
+    GTEST_SKIP() << "mknod not permitted: " << std::strerror(errno);
+  const Result r = run_program(CLOTHSIM_WP_EXE, "--fast --scene hanging --integrators symplectic-euler --out " + q(d));
+  EXPECT_EQ(r.code, 1) << r.output;  // the .svg went to a full device
+  EXPECT_NE(r.output.find("hanging.svg': No space left"), std::string::npos) << r.output;
+  EXPECT_TRUE(is_char_device(d / "hanging.csv")) << "the device was replaced";
+  EXPECT_TRUE(is_char_device(d / "hanging.svg")) << "the device was replaced";
+  EXPECT_EQ(entries(d), 2) << "a temporary file was left";
+}
+#endif
 
 }  // namespace
