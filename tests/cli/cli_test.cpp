@@ -119,6 +119,40 @@ TEST(Cli, BadValuesExitTwoWithAMessageAndWriteNothing) {
   EXPECT_TRUE(fs::is_empty(d));
 }
 
+// Runs that would never end are refused before they start (exit 2, one line, the count):
+// a tiny --dt (1e30 steps), a count above 2^64 (CLI11 read it as 2^64-1), substeps on top.
+TEST(Cli, AbsurdStepCountsAreRefusedAtOnce) {
+  struct Case {
+    const char* args;
+    const char* says;
+  } cases[] = {{"--seconds 1 --dt 1e-30", "1e+30 steps"},
+               {"--seconds 1e300", "steps"},
+               {"--steps 99999999999999999999", "--steps must be 1..1000000000"},
+               {"--steps 18446744073709551615", "--steps must be 1..1000000000"},
+               {"--steps 1000000001", "--steps must be 1..1000000000"},
+               {"--steps 600000000 --dt 0.03", "substeps each is 1800000000 steps"},
+               {"--steps 010", ""},  // decimal, not octal: runs 10 steps
+               {"--steps 1e3", "whole number"}};
+  for (const Case& c : cases) {
+    const Result r = run(std::string("--headless --quiet ") + c.args, "timeout 20 ");
+    if (std::string(c.says).empty()) {
+      EXPECT_EQ(r.code, 0) << c.args << ": " << r.output;
+      continue;
+    }
+    EXPECT_EQ(r.code, 2) << c.args << ": " << r.output;
+    EXPECT_NE(r.output.find(c.says), std::string::npos) << c.args << ": " << r.output;
+    EXPECT_EQ(lines(r.output), 1) << c.args << ": " << r.output;
+  }
+}
+
+// The range message is readable (it used to print DBL_MAX in 309 digits).
+TEST(Cli, ExportEveryZeroSaysAtLeastOne) {
+  const Result r = run("--headless --quiet --steps 5 --export-every 0");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("--export-every must be >= 1 (got 0)"), std::string::npos) << r.output;
+  EXPECT_LT(r.output.size(), 100u) << r.output;
+}
+
 TEST(Cli, ReportIntoAMissingFolderIsRefusedBeforeRunning) {
   const fs::path d = fresh_dir("missing");
   const Result r = run("--headless --report '" + (d / "no" / "r.json").string() + "'");

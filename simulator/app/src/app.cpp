@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -41,6 +42,9 @@ using json = nlohmann::json;
 
 constexpr int kExitFailed = 1;
 constexpr int kExitBadInput = 2;
+// The most steps of h (substeps included) one run may take: 1e9 steps are ~1 h of the smallest
+// scene and days of the skirt; beyond it a typo (--dt 1e-30) would run for ever.
+constexpr std::uint64_t kMaxSteps = 1'000'000'000;
 
 int bad_input(const std::string& msg) {
   std::cerr << "clothsim: error: " << msg << "\n";
@@ -68,6 +72,27 @@ std::string fmt(double v) {
   std::ostringstream s;
   s << v;
   return s.str();
+}
+
+// A step count: whole numbers in full, beyond 1e15 as 1e+30.
+std::string fmt_count(double n) {
+  return n < 1e15 ? std::to_string(static_cast<std::uint64_t>(n)) : fmt(n);
+}
+
+// A count in decimal digits, lo..hi, into `out`; else a one-line reason naming the option.
+// (CLI11 reads 99999999999999999999 as 2^64-1 and 010 as octal.)
+std::string parse_count(const std::string& option, const std::string& text, std::uint64_t lo, std::uint64_t hi,
+                        std::uint64_t& out) {
+  const std::string shown = text.size() > 40 ? text.substr(0, 40) + "..." : text;
+  const std::string range = std::to_string(lo) + ".." + std::to_string(hi);
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, out);
+  const bool digits = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+  if (!digits || ptr != end || (ec != std::errc{} && ec != std::errc::result_out_of_range))
+    return option + " must be a whole number " + range + " (got '" + shown + "')";
+  if (out < lo && ec == std::errc{}) return option + " must be >= " + std::to_string(lo) + " (got " + shown + ")";
+  if (ec == std::errc::result_out_of_range || out > hi) return option + " must be " + range + " (got " + shown + ")";
+  return {};
 }
 
 json options_json(const Options& o) {
@@ -139,14 +164,14 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   bool headless = false, quiet = false, no_vsync = false, paused = false;
   double seconds = 20.0, dt = 0, mass = 0, k_struct = 0, k_bend = 0, damping = 0, gravity = 0, epsilon = 0, k_rep = 0;
   std::uint64_t steps = 0, export_every = 10;
+  std::string steps_text, export_every_text = "10";
   std::string report, export_dir, screenshot, frames;
   int fps = 30, width = 1280, height = 720;
 
   app.add_flag("--headless", headless, "Run without a window" );
   auto* o_seconds = app.add_option("--seconds", seconds, "Simulated seconds to run (default 20 headless; the viewer runs until closed)");
-  auto* o_steps = app.add_option("--steps", steps, "Number of steps to run instead of --seconds")
-                     // "-3" would wrap to 2^64-3 steps in the unsigned count
-                     ->check([](const std::string& v) { return v.rfind('-', 0) == 0 ? std::string("must be > 0 (got " + v + ")") : std::string(); });
+  // Counts are read as text and parsed below: CLI11 wraps -3 to 2^64-3 and saturates overflow.
+  auto* o_steps = app.add_option("--steps", steps_text, "Number of steps to run instead of --seconds (1..1000000000)");
   o_steps->excludes(o_seconds);
   auto* o_dt = app.add_option("--dt", dt, "Step size h, s (seed: -step)");
   auto* o_mass = app.add_option("--mass", mass, "Mass per point, kg (seed: -mass)");
@@ -158,7 +183,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   auto* o_krep = app.add_option("--k-rep", k_rep, "Penalty stiffness k_rep of eq. 12, N/m");
   auto* o_report = app.add_option("--report", report, "Write a JSON report of the run to this file");
   auto* o_export = app.add_option("--export-obj", export_dir, "Write the cloth meshes as OBJ files into this directory");
-  app.add_option("--export-every", export_every, "With --export-obj: every K steps (default 10)")->check(CLI::PositiveNumber);
+  app.add_option("--export-every", export_every_text, "With --export-obj: every K steps (default 10)");
   app.add_flag("--quiet", quiet, "No progress bar and no summary");
   int threads = 1;  // issue 6: results are bit-identical for every count
   app.add_option("--threads", threads, "Threads for the force loops (default 1; 0: all cores); same results for any count")
@@ -235,7 +260,13 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   set_threads(threads);
   if (o_seconds->count() && !(std::isfinite(seconds) && seconds >= 0.0))
     return bad_input("--seconds must be a finite number >= 0 (got " + fmt(seconds) + ")");
-  if (o_steps->count() && steps == 0) return bad_input("--steps must be > 0");
+  if (o_steps->count())
+    if (const std::string why = parse_count("--steps", steps_text, 1, kMaxSteps, steps); !why.empty())
+      return bad_input(why);
+  if (const std::string why = parse_count("--export-every", export_every_text, 1,
+                                          std::numeric_limits<std::uint64_t>::max(), export_every);
+      !why.empty())
+    return bad_input(why);
   // Output paths before the (possibly long) run: a directory named as the report, or a file
   // where the OBJ directory should be, is bad input found at once.
   if (o_report->count())
@@ -277,6 +308,32 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     if (!plan.message.empty()) std::cerr << "clothsim: note: " << plan.message << "\n";
   }
   if (tunnel.warn) std::cerr << "clothsim: " << tunnel.message << "\n";
+
+  // The run's length before it starts, for the runs that step as fast as they can (headless,
+  // --screenshot, --frames; a window runs at real time and is closed by the user).
+  if (headless || o_screenshot->count() || o_frames->count()) {
+    const double n = o_steps->count() ? static_cast<double>(steps)
+                     : (headless || o_seconds->count()) ? std::round(seconds / opts.dt)
+                                                        : 0.0;
+    const double total_h = n * plan.substeps;
+    if (!(total_h <= static_cast<double>(kMaxSteps))) {
+      std::string why;
+      if (o_steps->count())  // within kMaxSteps itself: too many only with substeps
+        why = "--steps " + steps_text + " of " + std::to_string(plan.substeps) + " substeps each is " +
+              fmt_count(total_h) + " steps of " + fmt(plan.h) + " s";
+      else {
+        why = "--seconds " + fmt(seconds) + " at --dt " + fmt(opts.dt) + " is " + fmt_count(n) + " steps";
+        if (plan.substeps > 1)
+          why += " of " + std::to_string(plan.substeps) + " substeps each (" + fmt_count(total_h) + " steps of " +
+                 fmt(plan.h) + " s)";
+      }
+      why += "; one run takes at most " + std::to_string(kMaxSteps) +
+             (o_steps->count()       ? " (fewer --steps)"
+              : plan.substeps > 1    ? " (lower --seconds)"
+                                     : " (raise --dt or lower --seconds)");
+      return bad_input(why);
+    }
+  }
 
 #ifdef CLOTHSIM_HAVE_VIEWER
   if (!headless) {
