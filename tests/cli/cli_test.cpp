@@ -311,6 +311,21 @@ TEST(Cli, ScreenshotOrFramesPathsAreCheckedBeforeRunning) {
   EXPECT_EQ(entries(d), 2);
 }
 
+// --headless has no viewer to render with: --screenshot/--frames used to exit 0 with no
+// picture and no word. Refused (exit 2), nothing written.
+TEST(Cli, HeadlessScreenshotOrFramesIsRefused) {
+  const fs::path d = fresh_dir("headless_shot");
+  const Result shot = run("--headless --quiet --steps 5 --screenshot " + q(d / "x.png"));
+  EXPECT_EQ(shot.code, 2) << shot.output;
+  EXPECT_NE(shot.output.find("--screenshot"), std::string::npos) << shot.output;
+  EXPECT_NE(shot.output.find("--headless"), std::string::npos) << shot.output;
+  EXPECT_EQ(lines(shot.output), 1) << shot.output;
+  const Result frames = run("--headless --quiet --seconds 0.1 --frames " + q(d / "frames"));
+  EXPECT_EQ(frames.code, 2) << frames.output;
+  EXPECT_NE(frames.output.find("--frames"), std::string::npos) << frames.output;
+  EXPECT_TRUE(fs::is_empty(d));
+}
+
 TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {
   const fs::path d = fresh_dir("blowup");
   // --substeps 1: take the step as asked (the default, auto, would substep under the limit)

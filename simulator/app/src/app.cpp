@@ -239,6 +239,16 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     return bad_input(e.what());
   }
 
+  // Pictures come from the viewer: with --headless there is none, and no picture was written.
+#ifndef CLOTHSIM_HAVE_VIEWER
+  if (o_screenshot->count() || o_frames->count())
+    return bad_input("--screenshot/--frames need the viewer, and this clothsim was built without it");
+#endif
+  if (headless && (o_screenshot->count() || o_frames->count()))
+    return bad_input(std::string(o_screenshot->count() ? "--screenshot" : "--frames") +
+                     " renders with the viewer, which --headless turns off: drop --headless "
+                     "(with no display, run it under xvfb-run -a)");
+
   Options opts = scene_opts;
   if (o_dt->count()) opts.dt = dt;
   if (o_mass->count()) opts.mass = mass;
@@ -349,9 +359,6 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     else if (o_steps->count()) vo.seconds = static_cast<double>(steps) * opts.dt;
     return run_viewer(scene, model, vo);
   }
-#else
-  if (o_screenshot->count() || o_frames->count())
-    return bad_input("--screenshot/--frames need the viewer, and this clothsim was built without it");
 #endif
   (void)no_vsync;
   (void)paused;
