@@ -326,6 +326,22 @@ TEST(Cli, HeadlessScreenshotOrFramesIsRefused) {
   EXPECT_TRUE(fs::is_empty(d));
 }
 
+// The guard's refusal says what is true: with damping 0.1 it never says "no damping".
+TEST(Cli, UnstableIntegratorMessageTellsTheTruthAboutDamping) {
+  const Result heavy = run("--headless --quiet --steps 5 --integrator xpbd --mass 1e-45");
+  EXPECT_EQ(heavy.code, 2) << heavy.output;
+  EXPECT_EQ(heavy.output.find("no damping"), std::string::npos) << heavy.output;
+  EXPECT_NE(heavy.output.find("substeps"), std::string::npos) << heavy.output;  // dt_stable is tiny
+  EXPECT_EQ(lines(heavy.output), 1) << heavy.output;
+  const Result none = run("--headless --quiet --steps 5 --integrator explicit-euler --damping 0");
+  EXPECT_EQ(none.code, 2) << none.output;
+  EXPECT_NE(none.output.find("(damping 0)"), std::string::npos) << none.output;
+  const Result light = run("--headless --quiet --steps 5 --mass 1e-320");
+  EXPECT_EQ(light.code, 2) << light.output;
+  EXPECT_NE(light.output.find("too light"), std::string::npos) << light.output;
+  EXPECT_EQ(lines(light.output), 1) << light.output;
+}
+
 TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {
   const fs::path d = fresh_dir("blowup");
   // --substeps 1: take the step as asked (the default, auto, would substep under the limit)

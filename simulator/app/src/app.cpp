@@ -310,7 +310,9 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   // integrator, substeps or refusal, and the tunnelling check (docs/stability.md).
   const StabilityReport stab = analyse_stability(model);
   const SubstepPlan plan = plan_substeps(opts.dt, stab.dt_stable, substep_policy);
-  if (!plan.ok) return bad_input("--dt " + fmt(opts.dt) + ": " + plan.message);
+  if (!plan.ok)
+    return bad_input("--dt " + fmt(opts.dt) + ": " +
+                     (stab.dt_stable > 0.0 ? plan.message : never_stable_reason(stab, opts.integrator)));
   model.options.dt = plan.h;
   const TunnellingReport tunnel = check_tunnelling(model, plan.h);
   if (!quiet) {
