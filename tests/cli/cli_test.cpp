@@ -143,6 +143,14 @@ TEST(Cli, AbsurdStepCountsAreRefusedAtOnce) {
     EXPECT_NE(r.output.find(c.says), std::string::npos) << c.args << ": " << r.output;
     EXPECT_EQ(lines(r.output), 1) << c.args << ": " << r.output;
   }
+  // without --quiet still one line; and a window timed by --seconds is refused the same way
+  // (before the window opens: no display needed)
+  for (const char* args : {"--headless --seconds 1 --dt 1e-30", "--seconds 1 --dt 1e-30"}) {
+    const Result r = run(args, "timeout 20 ");
+    EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("1e+30 steps"), std::string::npos) << args << ": " << r.output;
+    EXPECT_EQ(lines(r.output), 1) << args << ": " << r.output;
+  }
 }
 
 // The range message is readable (it used to print DBL_MAX in 309 digits).

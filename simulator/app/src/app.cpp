@@ -314,17 +314,12 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     return bad_input("--dt " + fmt(opts.dt) + ": " +
                      (stab.dt_stable > 0.0 ? plan.message : never_stable_reason(stab, opts.integrator)));
   model.options.dt = plan.h;
-  const TunnellingReport tunnel = check_tunnelling(model, plan.h);
-  if (!quiet) {
-    std::cerr << "clothsim: " << describe(stab, opts.integrator) << "\n";
-    if (!plan.message.empty()) std::cerr << "clothsim: note: " << plan.message << "\n";
-  }
-  if (tunnel.warn) std::cerr << "clothsim: " << tunnel.message << "\n";
 
-  // The run's length before it starts, for the runs that step as fast as they can (headless,
-  // --screenshot, --frames; a window runs at real time and is closed by the user).
-  if (headless || o_screenshot->count() || o_frames->count()) {
-    const double n = o_steps->count() ? static_cast<double>(steps)
+  // The run's length before it starts: headless, --screenshot and --frames step as fast as they
+  // can, and a window with --seconds or --steps closes at that time; a window without either
+  // runs until the user closes it (n = 0).
+  {
+    const double n = o_steps->count()                     ? static_cast<double>(steps)
                      : (headless || o_seconds->count()) ? std::round(seconds / opts.dt)
                                                         : 0.0;
     const double total_h = n * plan.substeps;
@@ -346,6 +341,14 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
       return bad_input(why);
     }
   }
+
+  const TunnellingReport tunnel = check_tunnelling(model, plan.h);
+  if (!quiet) {
+    std::cerr << "clothsim: " << describe(stab, opts.integrator) << "\n";
+    if (!plan.message.empty()) std::cerr << "clothsim: note: " << plan.message << "\n";
+  }
+  if (tunnel.warn) std::cerr << "clothsim: " << tunnel.message << "\n";
+
 
 #ifdef CLOTHSIM_HAVE_VIEWER
   if (!headless) {
