@@ -3,11 +3,15 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -21,8 +25,9 @@ struct Result {
   std::string output;  // stdout + stderr
 };
 
-Result run(const std::string& args) {
-  const std::string cmd = std::string("'") + CLOTHSIM_DICE_EXE + "' " + args + " 2>&1";
+// `exe` with `args`; `shell_prefix`: shell commands run first (e.g. "cd DIR && ", "ulimit -f 0; ").
+Result run_program(const std::string& exe, const std::string& args, const std::string& shell_prefix = "") {
+  const std::string cmd = shell_prefix + "'" + exe + "' " + args + " 2>&1";
   Result r;
   FILE* p = ::popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -31,6 +36,10 @@ Result run(const std::string& args) {
   const int status = ::pclose(p);
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+Result run(const std::string& args, const std::string& shell_prefix = "") {
+  return run_program(CLOTHSIM_DICE_EXE, args, shell_prefix);
 }
 
 fs::path fresh_dir(const std::string& name) {
@@ -44,6 +53,36 @@ nlohmann::json read_json(const fs::path& p) {
   std::ifstream in(p);
   return nlohmann::json::parse(in);
 }
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::string text, line;
+  while (std::getline(in, line)) text += line + "\n";
+  return text;
+}
+
+long entries(const fs::path& d) { return std::distance(fs::directory_iterator(d), fs::directory_iterator{}); }
+
+// 'p' for the shell (built in steps: g++ 12 warns falsely on "'" + p.string() + "'")
+std::string q(const fs::path& p) {
+  std::string s = p.string();
+  s.insert(0, 1, '\'');
+  s += '\'';
+  return s;
+}
+
+// A character device like /dev/null (minor 3) or /dev/full (minor 7) of our own; the tests
+// never touch the real ones. False when mknod is not permitted.
+bool make_char_device(const fs::path& p, unsigned minor) {
+  return ::mknod(p.c_str(), S_IFCHR | 0666, makedev(1, minor)) == 0;
+}
+
+bool is_char_device(const fs::path& p) {
+  struct stat st {};
+  return ::stat(p.c_str(), &st) == 0 && S_ISCHR(st.st_mode);
+}
+
+int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
 TEST(Cli, HelpExitsZeroAndListsDefaultsAndTheSceneValues) {
   const Result r = run("--help");
@@ -80,12 +119,105 @@ TEST(Cli, BadValuesExitTwoWithAMessageAndWriteNothing) {
   EXPECT_TRUE(fs::is_empty(d));
 }
 
+// Runs that would never end are refused before they start (exit 2, one line, the count):
+// a tiny --dt (1e30 steps), a count above 2^64 (CLI11 read it as 2^64-1), substeps on top.
+TEST(Cli, AbsurdStepCountsAreRefusedAtOnce) {
+  struct Case {
+    const char* args;
+    const char* says;
+  } cases[] = {{"--seconds 1 --dt 1e-30", "1e+30 steps"},
+               {"--seconds 1e300", "steps"},
+               {"--steps 99999999999999999999", "--steps must be 1..1000000000"},
+               {"--steps 18446744073709551615", "--steps must be 1..1000000000"},
+               {"--steps 1000000001", "--steps must be 1..1000000000"},
+               {"--steps 600000000 --dt 0.03", "substeps each is 1800000000 steps"},
+               {"--steps 010", ""},  // decimal, not octal: runs 10 steps
+               {"--steps 1e3", "whole number"}};
+  for (const Case& c : cases) {
+    const Result r = run(std::string("--headless --quiet ") + c.args, "timeout 20 ");
+    if (std::string(c.says).empty()) {
+      EXPECT_EQ(r.code, 0) << c.args << ": " << r.output;
+      continue;
+    }
+    EXPECT_EQ(r.code, 2) << c.args << ": " << r.output;
+    EXPECT_NE(r.output.find(c.says), std::string::npos) << c.args << ": " << r.output;
+    EXPECT_EQ(lines(r.output), 1) << c.args << ": " << r.output;
+  }
+  // without --quiet still one line; and a window timed by --seconds is refused the same way
+  // (before the window opens: no display needed)
+  for (const char* args : {"--headless --seconds 1 --dt 1e-30", "--seconds 1 --dt 1e-30"}) {
+    const Result r = run(args, "timeout 20 ");
+    EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("1e+30 steps"), std::string::npos) << args << ": " << r.output;
+    EXPECT_EQ(lines(r.output), 1) << args << ": " << r.output;
+  }
+}
+
+// The range message is readable (it used to print DBL_MAX in 309 digits).
+TEST(Cli, ExportEveryZeroSaysAtLeastOne) {
+  const Result r = run("--headless --quiet --steps 5 --export-every 0");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("--export-every must be >= 1 (got 0)"), std::string::npos) << r.output;
+  EXPECT_LT(r.output.size(), 100u) << r.output;
+}
+
 TEST(Cli, ReportIntoAMissingFolderIsRefusedBeforeRunning) {
   const fs::path d = fresh_dir("missing");
   const Result r = run("--headless --report '" + (d / "no" / "r.json").string() + "'");
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("does not exist"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::is_empty(d));
+}
+
+// A directory named as the report: refused before the run (exit 2), whichever way it is
+// spelled, and left as it was (it used to exit 0 with no report and no word).
+TEST(Cli, ReportIntoADirectoryIsRefusedBeforeRunning) {
+  const fs::path d = fresh_dir("report_dir");
+  fs::create_directory(d / "somedir");
+  for (const std::string where : {"somedir", "somedir/", ".", "./somedir/."}) {
+    const Result r = run("--headless --quiet --steps 50 --report '" + where + "'", "cd " + q(d) + " && ");
+    EXPECT_EQ(r.code, 2) << where << ": " << r.output;
+    EXPECT_NE(r.output.find(q(where) + " is a directory"), std::string::npos) << r.output;
+    EXPECT_EQ(lines(r.output), 1) << r.output;
+  }
+  EXPECT_TRUE(fs::is_empty(d / "somedir"));
+  EXPECT_EQ(entries(d), 1);
+}
+
+// A device (our own /dev/null) is written into, not replaced by a regular file.
+TEST(Cli, ReportIntoADeviceWritesThroughItAndKeepsIt) {
+  const fs::path d = fresh_dir("report_null");
+  if (!make_char_device(d / "mynull", 3)) GTEST_SKIP() << "mknod not permitted: " << std::strerror(errno);
+  const Result r = run("--headless --quiet --steps 20 --report " + q(d / "mynull"));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(is_char_device(d / "mynull")) << "the device was replaced";
+  EXPECT_EQ(entries(d), 1) << "a temporary file was left";
+}
+
+// A full device (our own /dev/full): an I/O error naming it, exit 1, the device kept.
+TEST(Cli, ReportIntoAFullDeviceIsAnIoError) {
+  const fs::path d = fresh_dir("report_full");
+  if (!make_char_device(d / "myfull", 7)) GTEST_SKIP() << "mknod not permitted: " << std::strerror(errno);
+  const Result r = run("--headless --quiet --steps 20 --report " + q(d / "myfull"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("myfull"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("No space left"), std::string::npos) << r.output;
+  EXPECT_EQ(lines(r.output), 1) << r.output;
+  EXPECT_TRUE(is_char_device(d / "myfull"));
+  EXPECT_EQ(entries(d), 1);
+}
+
+// A write that fails (a file size limit of 0 blocks: EFBIG, and SIGXFSZ, which used to kill
+// the program) is reported; the old report stays and no temporary file is left.
+TEST(Cli, FailedReportWriteKeepsTheOldReport) {
+  const fs::path d = fresh_dir("report_efbig");
+  { std::ofstream(d / "r.json") << "old\n"; }
+  const Result r = run("--headless --quiet --steps 20 --report " + q(d / "r.json"), "ulimit -f 0; ");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("r.json"), std::string::npos) << r.output;
+  EXPECT_EQ(lines(r.output), 1) << r.output;
+  EXPECT_EQ(slurp(d / "r.json"), "old\n");
+  EXPECT_EQ(entries(d), 1);
 }
 
 TEST(Cli, ReportHasTheKeys) {
@@ -144,6 +276,80 @@ TEST(Cli, ExportObjWritesEveryKSteps) {
   EXPECT_TRUE(fs::exists(d / "frames" / "dice_000020.obj"));
 }
 
+// A file where the OBJ directory should be: bad input before the run (exit 2).
+TEST(Cli, ExportObjIntoAFileIsRefusedBeforeRunning) {
+  const fs::path d = fresh_dir("obj_file");
+  { std::ofstream(d / "frames") << "not a directory\n"; }
+  for (const fs::path& where : {d / "frames", d / "frames" / "sub"}) {
+    const Result r = run("--headless --quiet --steps 20 --export-obj " + q(where));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("is not a directory"), std::string::npos) << r.output;
+    EXPECT_EQ(lines(r.output), 1) << r.output;
+  }
+  EXPECT_EQ(slurp(d / "frames"), "not a directory\n");
+}
+
+// An OBJ name taken by a directory: exit 1 and a message naming that file.
+TEST(Cli, ExportObjNamesTheFileItCannotWrite) {
+  const fs::path d = fresh_dir("obj_taken");
+  fs::create_directories(d / "frames" / "dice_000010.obj");
+  const Result r = run("--headless --quiet --steps 20 --export-every 5 --export-obj " + q(d / "frames"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("dice_000010.obj' is a directory"), std::string::npos) << r.output;
+  EXPECT_EQ(lines(r.output), 1) << r.output;
+  EXPECT_TRUE(fs::is_empty(d / "frames" / "dice_000010.obj"));
+  EXPECT_EQ(entries(d / "frames"), 3);  // steps 0 and 5 written, then the stop
+}
+
+// The viewer's outputs are checked before the window opens (no display needed to see it):
+// a directory as the --screenshot PNG, a file as the --frames directory.
+TEST(Cli, ScreenshotOrFramesPathsAreCheckedBeforeRunning) {
+  const fs::path d = fresh_dir("viewer_paths");
+  fs::create_directory(d / "shot.png");
+  { std::ofstream(d / "frames") << "not a directory\n"; }
+  const Result shot = run("--seconds 1 --screenshot " + q(d / "shot.png"));
+  EXPECT_EQ(shot.code, 2) << shot.output;
+  EXPECT_NE(shot.output.find("shot.png' is a directory"), std::string::npos) << shot.output;
+  EXPECT_EQ(lines(shot.output), 1) << shot.output;
+  const Result frames = run("--seconds 1 --frames " + q(d / "frames"));
+  EXPECT_EQ(frames.code, 2) << frames.output;
+  EXPECT_NE(frames.output.find("is not a directory"), std::string::npos) << frames.output;
+  EXPECT_EQ(lines(frames.output), 1) << frames.output;
+  EXPECT_TRUE(fs::is_empty(d / "shot.png"));
+  EXPECT_EQ(entries(d), 2);
+}
+
+// --headless has no viewer to render with: --screenshot/--frames used to exit 0 with no
+// picture and no word. Refused (exit 2), nothing written.
+TEST(Cli, HeadlessScreenshotOrFramesIsRefused) {
+  const fs::path d = fresh_dir("headless_shot");
+  const Result shot = run("--headless --quiet --steps 5 --screenshot " + q(d / "x.png"));
+  EXPECT_EQ(shot.code, 2) << shot.output;
+  EXPECT_NE(shot.output.find("--screenshot"), std::string::npos) << shot.output;
+  EXPECT_NE(shot.output.find("--headless"), std::string::npos) << shot.output;
+  EXPECT_EQ(lines(shot.output), 1) << shot.output;
+  const Result frames = run("--headless --quiet --seconds 0.1 --frames " + q(d / "frames"));
+  EXPECT_EQ(frames.code, 2) << frames.output;
+  EXPECT_NE(frames.output.find("--frames"), std::string::npos) << frames.output;
+  EXPECT_TRUE(fs::is_empty(d));
+}
+
+// The guard's refusal says what is true: with damping 0.1 it never says "no damping".
+TEST(Cli, UnstableIntegratorMessageTellsTheTruthAboutDamping) {
+  const Result heavy = run("--headless --quiet --steps 5 --integrator xpbd --mass 1e-45");
+  EXPECT_EQ(heavy.code, 2) << heavy.output;
+  EXPECT_EQ(heavy.output.find("no damping"), std::string::npos) << heavy.output;
+  EXPECT_NE(heavy.output.find("substeps"), std::string::npos) << heavy.output;  // dt_stable is tiny
+  EXPECT_EQ(lines(heavy.output), 1) << heavy.output;
+  const Result none = run("--headless --quiet --steps 5 --integrator explicit-euler --damping 0");
+  EXPECT_EQ(none.code, 2) << none.output;
+  EXPECT_NE(none.output.find("(damping 0)"), std::string::npos) << none.output;
+  const Result light = run("--headless --quiet --steps 5 --mass 1e-320");
+  EXPECT_EQ(light.code, 2) << light.output;
+  EXPECT_NE(light.output.find("too light"), std::string::npos) << light.output;
+  EXPECT_EQ(lines(light.output), 1) << light.output;
+}
+
 TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {
   const fs::path d = fresh_dir("blowup");
   // --substeps 1: take the step as asked (the default, auto, would substep under the limit)
@@ -156,5 +362,39 @@ TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {
   EXPECT_LT(j["steps"].get<int>(), 2000);  // stopped at once, not after 1000 s
   EXPECT_GT(j["stable_dt_estimate"].get<double>(), 0.0);
 }
+
+#ifdef CLOTHSIM_WP_EXE
+// clothsim_wp (the work-precision tool) writes <out>/<scene>.csv and .svg by the same rule:
+// the paths are checked before the study (exit 2), a device is written through, never replaced.
+TEST(WorkPrecision, OutputPathsAreCheckedBeforeTheStudy) {
+  const fs::path d = fresh_dir("wp_paths");
+  { std::ofstream(d / "afile") << "x\n"; }
+  fs::create_directories(d / "out" / "hanging.csv");
+  const std::string study = "--fast --scene hanging --integrators symplectic-euler --out ";
+  const Result file = run_program(CLOTHSIM_WP_EXE, study + q(d / "afile"));
+  EXPECT_EQ(file.code, 2) << file.output;
+  EXPECT_NE(file.output.find("afile' is not a directory"), std::string::npos) << file.output;
+  EXPECT_EQ(lines(file.output), 1) << file.output;
+  const Result taken = run_program(CLOTHSIM_WP_EXE, study + q(d / "out"));
+  EXPECT_EQ(taken.code, 2) << taken.output;
+  EXPECT_NE(taken.output.find("hanging.csv' is a directory"), std::string::npos) << taken.output;
+  EXPECT_EQ(lines(taken.output), 1) << taken.output;
+  EXPECT_EQ(entries(d / "out"), 1);
+  const Result bogus = run_program(CLOTHSIM_WP_EXE, "--bogus");
+  EXPECT_EQ(bogus.code, 2) << bogus.output;
+}
+
+TEST(WorkPrecision, OutputsIntoDevicesAreWrittenThrough) {
+  const fs::path d = fresh_dir("wp_devices");
+  if (!make_char_device(d / "hanging.csv", 3) || !make_char_device(d / "hanging.svg", 7))
+    GTEST_SKIP() << "mknod not permitted: " << std::strerror(errno);
+  const Result r = run_program(CLOTHSIM_WP_EXE, "--fast --scene hanging --integrators symplectic-euler --out " + q(d));
+  EXPECT_EQ(r.code, 1) << r.output;  // the .svg went to a full device
+  EXPECT_NE(r.output.find("hanging.svg': No space left"), std::string::npos) << r.output;
+  EXPECT_TRUE(is_char_device(d / "hanging.csv")) << "the device was replaced";
+  EXPECT_TRUE(is_char_device(d / "hanging.svg")) << "the device was replaced";
+  EXPECT_EQ(entries(d), 2) << "a temporary file was left";
+}
+#endif
 
 }  // namespace

@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
+#include <string>
 
 #include "inline_scenes.hpp"
 
@@ -112,6 +114,36 @@ TEST(Integrators, StableDtMatchesTheory) {
   const double zeta = 0.5;  // damped explicit Euler: |1 + h lambda|^2 = 1 - 2 h zeta + h^2 w^2 <= 1
   EXPECT_NEAR(stable_dt(Integrator::ExplicitEuler, w, zeta), 2 * zeta / (w * w), 1e-9);
   EXPECT_TRUE(std::isinf(stable_dt(Integrator::ImplicitEuler, w, zeta)));
+}
+
+// Damping far above omega (--mass 1e-45 with damping 0.1: zeta 5e43 1/s, omega 1.6e24 rad/s):
+// the explicitly damped methods are stable for h zeta below about 1, so a tiny dt_stable is
+// found (it used to be 0, reported as "unstable at every step size (no damping)").
+TEST(Integrators, StableDtWithDampingFarAboveOmegaIsTinyNotZero) {
+  const double w = 1.6e24, zeta = 5e43;
+  for (Integrator m : {Integrator::XPBD, Integrator::SymplecticEuler}) {
+    const double h = stable_dt(m, w, zeta);
+    EXPECT_GT(h, 0.0) << to_string(m);
+    EXPECT_LT(h * zeta, 2.0) << to_string(m);
+    EXPECT_GT(h * zeta, 0.1) << to_string(m);
+  }
+  EXPECT_TRUE(std::isinf(stable_dt(Integrator::ImplicitEuler, w, zeta)));
+  // overflowed inputs have no usable step (and do not loop)
+  EXPECT_EQ(stable_dt(Integrator::ImplicitEuler, std::numeric_limits<double>::infinity(), 0.5), 0.0);
+  EXPECT_EQ(stable_dt(Integrator::XPBD, 100.0, std::numeric_limits<double>::infinity()), 0.0);
+}
+
+TEST(Integrators, NeverStableReasonSaysWhy) {
+  StabilityReport r;
+  r.omega_max = 100.0;
+  r.zeta = 0.0;
+  EXPECT_NE(never_stable_reason(r, Integrator::ExplicitEuler).find("none (damping 0)"), std::string::npos);
+  r.zeta = 1e-3;
+  const std::string weak = never_stable_reason(r, Integrator::ExplicitEuler);
+  EXPECT_EQ(weak.find("no damping"), std::string::npos) << weak;
+  EXPECT_NE(weak.find("little"), std::string::npos) << weak;
+  r.omega_max = std::numeric_limits<double>::infinity();
+  EXPECT_NE(never_stable_reason(r, Integrator::XPBD).find("too light"), std::string::npos);
 }
 
 TEST(Integrators, FastMassSpringFactorsOnceAndApproachesImplicitEuler) {

@@ -5,12 +5,16 @@
 
 #include <stb/stb_image.h>
 
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -179,6 +183,38 @@ TEST(ViewerProbe, BadInputGivesOneLineErrorAndNoFile) {
   const Result tiny = run(q(g_probe) + " --width 3 --screenshot " + q(out("tiny.png")));
   EXPECT_EQ(tiny.code, 1);
   EXPECT_NE(tiny.output.find("16..8192"), std::string::npos) << tiny.output;
+}
+
+// PNGs follow the output rule: a device is written through, never replaced by a regular file
+// (our own device nodes, never /dev/null or /dev/full); a full one is an error naming it; a
+// directory is refused before the window opens.
+TEST(ViewerProbe, PngIntoADeviceIsWrittenThroughAndIntoADirectoryRefused) {
+  const fs::path dir = out("devices");
+  fs::create_directories(dir);
+  if (::mknod((dir / "mynull").c_str(), S_IFCHR | 0666, makedev(1, 3)) != 0 ||
+      ::mknod((dir / "myfull").c_str(), S_IFCHR | 0666, makedev(1, 7)) != 0)
+    GTEST_SKIP() << "mknod not permitted: " << std::strerror(errno);
+  auto is_char_device = [](const fs::path& p) {
+    struct stat st {};
+    return ::stat(p.c_str(), &st) == 0 && S_ISCHR(st.st_mode);
+  };
+  const std::string base = q(g_probe) + " --width 64 --height 64 ";
+  const Result null = run(base + "--screenshot " + q(dir / "mynull"));
+  EXPECT_EQ(null.code, 0) << null.output;
+  EXPECT_TRUE(is_char_device(dir / "mynull")) << "the device was replaced";
+
+  const Result full = run(base + "--screenshot " + q(dir / "myfull"));
+  EXPECT_EQ(full.code, 1) << full.output;
+  EXPECT_NE(full.output.find("myfull"), std::string::npos) << full.output;
+  EXPECT_NE(full.output.find("No space left"), std::string::npos) << full.output;
+  EXPECT_TRUE(is_char_device(dir / "myfull"));
+
+  fs::create_directory(dir / "shot.png");
+  const Result folder = run(base + "--screenshot " + q(dir / "shot.png"));
+  EXPECT_EQ(folder.code, 1) << folder.output;
+  EXPECT_NE(folder.output.find("shot.png' is a directory"), std::string::npos) << folder.output;
+  EXPECT_TRUE(fs::is_empty(dir / "shot.png"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 3) << "a temporary file was left";
 }
 
 TEST(ViewerProbe, NonFiniteStateIsAnErrorNotAPicture) {

@@ -1,6 +1,7 @@
 #include "app.hpp"
 
 #include <clothsim/integrators.hpp>
+#include <clothsim/output_file.hpp>
 #include <clothsim/scene.hpp>
 #include <clothsim/stability.hpp>
 #include <clothsim/step.hpp>
@@ -17,12 +18,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <sstream>
@@ -41,6 +42,9 @@ using json = nlohmann::json;
 
 constexpr int kExitFailed = 1;
 constexpr int kExitBadInput = 2;
+// The most steps of h (substeps included) one run may take: 1e9 steps are ~1 h of the smallest
+// scene and days of the skirt; beyond it a typo (--dt 1e-30) would run for ever.
+constexpr std::uint64_t kMaxSteps = 1'000'000'000;
 
 int bad_input(const std::string& msg) {
   std::cerr << "clothsim: error: " << msg << "\n";
@@ -70,6 +74,27 @@ std::string fmt(double v) {
   return s.str();
 }
 
+// A step count: whole numbers in full, beyond 1e15 as 1e+30.
+std::string fmt_count(double n) {
+  return n < 1e15 ? std::to_string(static_cast<std::uint64_t>(n)) : fmt(n);
+}
+
+// A count in decimal digits, lo..hi, into `out`; else a one-line reason naming the option.
+// (CLI11 reads 99999999999999999999 as 2^64-1 and 010 as octal.)
+std::string parse_count(const std::string& option, const std::string& text, std::uint64_t lo, std::uint64_t hi,
+                        std::uint64_t& out) {
+  const std::string shown = text.size() > 40 ? text.substr(0, 40) + "..." : text;
+  const std::string range = std::to_string(lo) + ".." + std::to_string(hi);
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, out);
+  const bool digits = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+  if (!digits || ptr != end || (ec != std::errc{} && ec != std::errc::result_out_of_range))
+    return option + " must be a whole number " + range + " (got '" + shown + "')";
+  if (out < lo && ec == std::errc{}) return option + " must be >= " + std::to_string(lo) + " (got " + shown + ")";
+  if (ec == std::errc::result_out_of_range || out > hi) return option + " must be " + range + " (got " + shown + ")";
+  return {};
+}
+
 json options_json(const Options& o) {
   return json{{"dt", o.dt},         {"mass", o.mass},
               {"k_struct", o.k_struct}, {"k_bend", o.k_bend},
@@ -78,31 +103,13 @@ json options_json(const Options& o) {
               {"integrator", to_string(o.integrator)}};
 }
 
-// temp file + rename: a reader never sees half a report.
-bool write_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return false;
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      return false;
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) fs::remove(tmp, ec);
-  return !ec;
-}
-
-bool export_obj(const fs::path& dir, const b2o::Scene& scene, const Model& model, const State& s) {
+// One OBJ file <dir>/<scene>_<step>.obj by the output rule (clothsim/output_file.hpp).
+// Returns empty or the error.
+std::string export_obj(const fs::path& dir, const b2o::Scene& scene, const Model& model, const State& s) {
   char name[64];
   std::snprintf(name, sizeof name, "%s_%06llu.obj", model.scene_name.c_str(),
                 static_cast<unsigned long long>(s.steps));
-  std::ofstream out(dir / name);
+  std::ostringstream out;
   out << "# clothsim " << CLOTHSIM_VERSION << ", t = " << s.t << " s, step " << s.steps << "\n";
   std::size_t base = 1;  // OBJ indices are 1-based and file-global
   for (const ClothRange& r : model.cloths) {
@@ -118,7 +125,7 @@ bool export_obj(const fs::path& dir, const b2o::Scene& scene, const Model& model
             << base + cloth->triangles[3 * t + 2] << "\n";
     base += r.mass_count;
   }
-  return static_cast<bool>(out);
+  return io::write_output_file((dir / name).string(), out.str());
 }
 
 class Progress {
@@ -157,14 +164,14 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   bool headless = false, quiet = false, no_vsync = false, paused = false;
   double seconds = 20.0, dt = 0, mass = 0, k_struct = 0, k_bend = 0, damping = 0, gravity = 0, epsilon = 0, k_rep = 0;
   std::uint64_t steps = 0, export_every = 10;
+  std::string steps_text, export_every_text = "10";
   std::string report, export_dir, screenshot, frames;
   int fps = 30, width = 1280, height = 720;
 
   app.add_flag("--headless", headless, "Run without a window" );
   auto* o_seconds = app.add_option("--seconds", seconds, "Simulated seconds to run (default 20 headless; the viewer runs until closed)");
-  auto* o_steps = app.add_option("--steps", steps, "Number of steps to run instead of --seconds")
-                     // "-3" would wrap to 2^64-3 steps in the unsigned count
-                     ->check([](const std::string& v) { return v.rfind('-', 0) == 0 ? std::string("must be > 0 (got " + v + ")") : std::string(); });
+  // Counts are read as text and parsed below: CLI11 wraps -3 to 2^64-3 and saturates overflow.
+  auto* o_steps = app.add_option("--steps", steps_text, "Number of steps to run instead of --seconds (1..1000000000)");
   o_steps->excludes(o_seconds);
   auto* o_dt = app.add_option("--dt", dt, "Step size h, s (seed: -step)");
   auto* o_mass = app.add_option("--mass", mass, "Mass per point, kg (seed: -mass)");
@@ -174,9 +181,9 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   auto* o_g = app.add_option("--gravity", gravity, "Gravity, m/s^2, pointing down -Y");
   auto* o_eps = app.add_option("--epsilon", epsilon, "Collision band epsilon of eq. 12, m");
   auto* o_krep = app.add_option("--k-rep", k_rep, "Penalty stiffness k_rep of eq. 12, N/m");
-  app.add_option("--report", report, "Write a JSON report of the run to this file");
+  auto* o_report = app.add_option("--report", report, "Write a JSON report of the run to this file");
   auto* o_export = app.add_option("--export-obj", export_dir, "Write the cloth meshes as OBJ files into this directory");
-  app.add_option("--export-every", export_every, "With --export-obj: every K steps (default 10)")->check(CLI::PositiveNumber);
+  app.add_option("--export-every", export_every_text, "With --export-obj: every K steps (default 10)");
   app.add_flag("--quiet", quiet, "No progress bar and no summary");
   int threads = 1;  // issue 6: results are bit-identical for every count
   app.add_option("--threads", threads, "Threads for the force loops (default 1; 0: all cores); same results for any count")
@@ -188,8 +195,8 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   app.add_option("--substeps", substeps_text,
                  "auto: substep to stay under the stability limit (default); off: refuse a dt above it; "
                  "N: N substeps per step, as asked");
-  app.add_option("--screenshot", screenshot, "Viewer: render at --seconds, write this PNG and exit");
-  app.add_option("--frames", frames, "Viewer: write a PNG sequence into this directory up to --seconds");
+  auto* o_screenshot = app.add_option("--screenshot", screenshot, "Viewer: render at --seconds, write this PNG and exit");
+  auto* o_frames = app.add_option("--frames", frames, "Viewer: write a PNG sequence into this directory up to --seconds");
   app.add_option("--fps", fps, "Viewer: frames per simulated second for --frames (default 30)")->check(CLI::PositiveNumber);
   app.add_option("--width", width, "Viewer: window width (default 1280)")->check(CLI::PositiveNumber);
   app.add_option("--height", height, "Viewer: window height (default 720)")->check(CLI::PositiveNumber);
@@ -232,6 +239,16 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     return bad_input(e.what());
   }
 
+  // Pictures come from the viewer: with --headless there is none, and no picture was written.
+#ifndef CLOTHSIM_HAVE_VIEWER
+  if (o_screenshot->count() || o_frames->count())
+    return bad_input("--screenshot/--frames need the viewer, and this clothsim was built without it");
+#endif
+  if (headless && (o_screenshot->count() || o_frames->count()))
+    return bad_input(std::string(o_screenshot->count() ? "--screenshot" : "--frames") +
+                     " renders with the viewer, which --headless turns off: drop --headless "
+                     "(with no display, run it under xvfb-run -a)");
+
   Options opts = scene_opts;
   if (o_dt->count()) opts.dt = dt;
   if (o_mass->count()) opts.mass = mass;
@@ -253,18 +270,31 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   set_threads(threads);
   if (o_seconds->count() && !(std::isfinite(seconds) && seconds >= 0.0))
     return bad_input("--seconds must be a finite number >= 0 (got " + fmt(seconds) + ")");
-  if (o_steps->count() && steps == 0) return bad_input("--steps must be > 0");
-  if (!report.empty()) {
-    const fs::path parent = fs::path(report).parent_path();
-    if (!parent.empty() && !fs::is_directory(parent))
-      return bad_input("--report: directory '" + parent.string() + "' does not exist");
-  }
+  if (o_steps->count())
+    if (const std::string why = parse_count("--steps", steps_text, 1, kMaxSteps, steps); !why.empty())
+      return bad_input(why);
+  if (const std::string why = parse_count("--export-every", export_every_text, 1,
+                                          std::numeric_limits<std::uint64_t>::max(), export_every);
+      !why.empty())
+    return bad_input(why);
+  // Output paths before the (possibly long) run: a directory named as the report, or a file
+  // where the OBJ directory should be, is bad input found at once.
+  if (o_report->count())
+    if (const std::string why = io::check_output_file(report); !why.empty()) return bad_input("--report: " + why);
+  if (o_export->count())
+    if (const std::string why = io::check_output_dir(export_dir); !why.empty())
+      return bad_input("--export-obj: " + why);
+  if (o_screenshot->count())
+    if (const std::string why = io::check_output_file(screenshot); !why.empty())
+      return bad_input("--screenshot: " + why);
+  if (o_frames->count())
+    if (const std::string why = io::check_output_dir(frames); !why.empty()) return bad_input("--frames: " + why);
   if (!quiet)
     for (const auto& k : unknown_params)
       std::cerr << "clothsim: note: scene '" << scene.name << "' bakes param '" << k << "', which is no simulator option\n";
 
 #ifdef CLOTHSIM_HAVE_VIEWER
-  if (!headless && (!report.empty() || o_export->count()))
+  if (!headless && (o_report->count() || o_export->count()))
     return bad_input("--report and --export-obj belong to headless runs: add --headless");
 #endif
 
@@ -280,14 +310,45 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   // integrator, substeps or refusal, and the tunnelling check (docs/stability.md).
   const StabilityReport stab = analyse_stability(model);
   const SubstepPlan plan = plan_substeps(opts.dt, stab.dt_stable, substep_policy);
-  if (!plan.ok) return bad_input("--dt " + fmt(opts.dt) + ": " + plan.message);
+  if (!plan.ok)
+    return bad_input("--dt " + fmt(opts.dt) + ": " +
+                     (stab.dt_stable > 0.0 ? plan.message : never_stable_reason(stab, opts.integrator)));
   model.options.dt = plan.h;
+
+  // The run's length before it starts: headless, --screenshot and --frames step as fast as they
+  // can, and a window with --seconds or --steps closes at that time; a window without either
+  // runs until the user closes it (n = 0).
+  {
+    const double n = o_steps->count()                     ? static_cast<double>(steps)
+                     : (headless || o_seconds->count()) ? std::round(seconds / opts.dt)
+                                                        : 0.0;
+    const double total_h = n * plan.substeps;
+    if (!(total_h <= static_cast<double>(kMaxSteps))) {
+      std::string why;
+      if (o_steps->count())  // within kMaxSteps itself: too many only with substeps
+        why = "--steps " + steps_text + " of " + std::to_string(plan.substeps) + " substeps each is " +
+              fmt_count(total_h) + " steps of " + fmt(plan.h) + " s";
+      else {
+        why = "--seconds " + fmt(seconds) + " at --dt " + fmt(opts.dt) + " is " + fmt_count(n) + " steps";
+        if (plan.substeps > 1)
+          why += " of " + std::to_string(plan.substeps) + " substeps each (" + fmt_count(total_h) + " steps of " +
+                 fmt(plan.h) + " s)";
+      }
+      why += "; one run takes at most " + std::to_string(kMaxSteps) +
+             (o_steps->count()       ? " (fewer --steps)"
+              : plan.substeps > 1    ? " (lower --seconds)"
+                                     : " (raise --dt or lower --seconds)");
+      return bad_input(why);
+    }
+  }
+
   const TunnellingReport tunnel = check_tunnelling(model, plan.h);
   if (!quiet) {
     std::cerr << "clothsim: " << describe(stab, opts.integrator) << "\n";
     if (!plan.message.empty()) std::cerr << "clothsim: note: " << plan.message << "\n";
   }
   if (tunnel.warn) std::cerr << "clothsim: " << tunnel.message << "\n";
+
 
 #ifdef CLOTHSIM_HAVE_VIEWER
   if (!headless) {
@@ -303,9 +364,6 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     else if (o_steps->count()) vo.seconds = static_cast<double>(steps) * opts.dt;
     return run_viewer(scene, model, vo);
   }
-#else
-  if (!screenshot.empty() || !frames.empty())
-    return bad_input("--screenshot/--frames need the viewer, and this clothsim was built without it");
 #endif
   (void)no_vsync;
   (void)paused;
@@ -318,7 +376,8 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     std::error_code ec;
     fs::create_directories(export_path, ec);
     if (ec || !fs::is_directory(export_path)) {
-      std::cerr << "clothsim: error: --export-obj: cannot create directory '" << export_dir << "'\n";
+      std::cerr << "clothsim: error: --export-obj: cannot create directory '" << export_dir << "'"
+                << (ec ? ": " + ec.message() : std::string()) << "\n";
       return kExitFailed;
     }
   }
@@ -331,10 +390,11 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   bool finite = true;
   std::chrono::steady_clock::duration step_time{};
   std::uint64_t failed_step = 0;
-  if (o_export->count() && !export_obj(export_path, scene, model, state)) {
-    std::cerr << "clothsim: error: --export-obj: cannot write into '" << export_dir << "'\n";
-    return kExitFailed;
-  }
+  if (o_export->count())
+    if (const std::string err = export_obj(export_path, scene, model, state); !err.empty()) {
+      std::cerr << "clothsim: error: --export-obj: " << err << "\n";
+      return kExitFailed;
+    }
   const std::clock_t cpu0 = std::clock();  // CPU time: robust to other processes on the machine
   for (std::uint64_t i = 0; i < total; ++i) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -346,10 +406,12 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
       failed_step = state.steps;
       break;
     }
-    if (o_export->count() && (i + 1) % export_every == 0 && !export_obj(export_path, scene, model, state)) {
-      std::cerr << "\nclothsim: error: --export-obj: cannot write into '" << export_dir << "'\n";
-      return kExitFailed;
-    }
+    if (o_export->count() && (i + 1) % export_every == 0)
+      if (const std::string err = export_obj(export_path, scene, model, state); !err.empty()) {
+        progress.finish();
+        std::cerr << "clothsim: error: --export-obj: " << err << "\n";
+        return kExitFailed;
+      }
     progress.update(i + 1, state.t);
   }
   progress.finish();
@@ -370,7 +432,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
               << " s). Likely cause: dt = " << opts.dt << " s is above the stability limit; the Gershgorin "
               << "estimate 2/omega_max is " << stable_dt << " s (lower --dt, or soften --k-struct/--k-rep)\n";
 
-  if (!report.empty()) {
+  if (o_report->count()) {
     json r;
     r["scene"] = model.scene_name;
     r["version"] = CLOTHSIM_VERSION;
@@ -396,8 +458,8 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     r["kinetic_energy"] = num(ke);
     r["stable_dt_estimate"] = num(stable_dt);
     r["options"] = options_json(opts);
-    if (!write_atomically(report, r.dump(2) + "\n")) {
-      std::cerr << "clothsim: error: --report: cannot write '" << report << "'\n";
+    if (const std::string err = io::write_output_file(report, r.dump(2) + "\n"); !err.empty()) {
+      std::cerr << "clothsim: error: --report: " << err << "\n";
       return kExitFailed;
     }
   }

@@ -209,6 +209,8 @@ double omega_contact(const Model& model) {
 }
 
 double stable_dt(Integrator method, double omega, double zeta) {
+  // An overflowed omega or damping rate (masses of 1e-300 kg) has no usable step.
+  if (!std::isfinite(omega) || !std::isfinite(zeta)) return 0.0;
   if (!(omega > 0.0)) return std::numeric_limits<double>::infinity();
   const double w2 = omega * omega;
   // The method's one-step map on (x, v) for x'' = -w2 x - 2 zeta v, as the code does it.
@@ -272,7 +274,9 @@ double stable_dt(Integrator method, double omega, double zeta) {
   };
   auto stable = [&](double h) { return radius(h) <= 1.0 + 1e-12; };
   // Unstable already at h omega = 1e-3: treat as never stable (explicit Euler without damping).
-  double lo = 1e-3 / omega;
+  // A damping rate above omega sets the scale instead: XPBD and the symplectic methods treat
+  // damping explicitly, stable only for h zeta below about 1 (--mass 1e-45, --damping 0.1).
+  double lo = 1e-3 / std::max(omega, zeta);
   if (!stable(lo)) return 0.0;
   double hi = lo;
   while (stable(hi)) {
@@ -310,6 +314,27 @@ std::string describe(const StabilityReport& r, Integrator method) {
   return buf;
 }
 
+std::string never_stable_reason(const StabilityReport& r, Integrator method) {
+  char buf[400];
+  if (!std::isfinite(r.omega_max) || !std::isfinite(r.zeta))
+    std::snprintf(buf, sizeof buf,
+                  "no step size is stable: omega_max (%.4g rad/s) or the damping rate (%.4g 1/s) "
+                  "overflows; the masses are too light for the springs and the damping",
+                  r.omega_max, r.zeta);
+  else if (r.zeta == 0.0)
+    std::snprintf(buf, sizeof buf,
+                  "%s is unstable at every step size without damping, and this model has none "
+                  "(damping 0); choose another integrator or add damping",
+                  to_string(method));
+  else
+    std::snprintf(buf, sizeof buf,
+                  "%s is unstable at every step size (down to h omega_max = 1e-3) with this little "
+                  "damping: rate %.4g 1/s against omega_max %.4g rad/s; choose another integrator "
+                  "or more damping",
+                  to_string(method), r.zeta, r.omega_max);
+  return buf;
+}
+
 SubstepPolicy parse_substeps(std::string_view text) {
   SubstepPolicy p;
   if (text == "auto") return p;
@@ -340,9 +365,8 @@ SubstepPlan plan_substeps(double dt, double dt_stable, const SubstepPolicy& poli
     case SubstepPolicy::Mode::Off: plan.substeps = 1; break;
     case SubstepPolicy::Mode::Auto: {
       if (!(dt_stable > 0.0)) {
-        plan.ok = false;
-        plan.message = "this integrator is unstable at every step size on this model (no damping); "
-                       "choose another integrator";
+        plan.ok = false;  // why: never_stable_reason(), which knows the model's damping
+        plan.message = "this integrator is unstable at every step size on this model";
         return plan;
       }
       const double need = std::ceil(dt / (policy.margin * dt_stable));
@@ -371,12 +395,18 @@ SubstepPlan plan_substeps(double dt, double dt_stable, const SubstepPolicy& poli
     // off: refuse. N: the user's explicit choice is taken, with a warning (a blow-up is then
     // caught by step()'s finite check and reported, never passed on).
     plan.ok = policy.mode == SubstepPolicy::Mode::Fixed;
-    std::snprintf(buf, sizeof buf,
-                  "%sstep %.4g s is not below the stability limit dt_stable %.4g s (h omega_max "
-                  "too large; the run would blow up): use a smaller dt, --substeps auto or "
-                  "--substeps %d",
-                  plan.ok ? "warning: " : "", plan.h, dt_stable,
-                  dt_stable > 0.0 ? static_cast<int>(std::ceil(dt / (policy.margin * dt_stable))) : 0);
+    const double need = dt_stable > 0.0 ? std::ceil(dt / (policy.margin * dt_stable)) : 0.0;
+    if (need >= 1.0 && need <= policy.max_substeps)
+      std::snprintf(buf, sizeof buf,
+                    "%sstep %.4g s is not below the stability limit dt_stable %.4g s (h omega_max "
+                    "too large; the run would blow up): use a smaller dt, --substeps auto or "
+                    "--substeps %d",
+                    plan.ok ? "warning: " : "", plan.h, dt_stable, static_cast<int>(need));
+    else
+      std::snprintf(buf, sizeof buf,
+                    "%sstep %.4g s is not below the stability limit dt_stable %.4g s (h omega_max "
+                    "too large; the run would blow up): use a smaller dt or another integrator",
+                    plan.ok ? "warning: " : "", plan.h, dt_stable);
     plan.message = buf;
   }
   return plan;

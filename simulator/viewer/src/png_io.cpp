@@ -1,10 +1,8 @@
 #include "png_io.hpp"
 
-#include <stb/stb_image_write.h>
+#include <clothsim/output_file.hpp>
 
-#include <cstdio>
-#include <filesystem>
-#include <system_error>
+#include <stb/stb_image_write.h>
 
 namespace clothsim::view {
 
@@ -12,18 +10,15 @@ std::string write_png(const std::string& path, int width, int height,
                       const std::vector<unsigned char>& rgb) {
   if (rgb.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3)
     return path + ": internal error: image buffer has the wrong size";
-  const std::string tmp = path + ".part";
-  if (!stbi_write_png(tmp.c_str(), width, height, 3, rgb.data(), width * 3)) {
-    std::remove(tmp.c_str());
-    return path + ": cannot write the PNG (does the directory exist and is it writable?)";
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    return path + ": cannot write the PNG: " + ec.message();
-  }
-  return {};
+  // Encoded in memory, then written by the output rule (a device is written in place, a
+  // regular file replaced through a temporary file, a directory refused).
+  std::string png;
+  const auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+  };
+  if (!stbi_write_png_to_func(append, &png, width, height, 3, rgb.data(), width * 3))
+    return path + ": cannot encode the PNG";
+  return io::write_output_file(path, png);
 }
 
 }  // namespace clothsim::view

@@ -3,6 +3,7 @@
 #include <clothsim/viewer.hpp>
 
 #include <blender2ogl/scene_types.h>
+#include <clothsim/output_file.hpp>
 #include <clothsim/sim.hpp>
 #include <clothsim/step.hpp>
 #include <clothsim/view/camera.hpp>
@@ -436,6 +437,11 @@ std::string check_options(const ViewerOptions& o) {
   if (!o.frames_dir.empty() && !(o.seconds >= 0.0))
     return "--frames needs --seconds T (how much simulated time to record)";
   if (!std::isfinite(o.seconds) || o.seconds > 1e6) return "--seconds must be a finite time";
+  // The output paths before the window opens and the simulation runs (the writes check again).
+  if (!o.screenshot.empty())
+    if (std::string why = io::check_output_file(o.screenshot); !why.empty()) return "--screenshot: " + why;
+  if (!o.frames_dir.empty())
+    if (std::string why = io::check_output_dir(o.frames_dir); !why.empty()) return "--frames: " + why;
   if (!(o.max_work_per_frame > 0.0)) return "max_work_per_frame must be positive";
   return {};
 }

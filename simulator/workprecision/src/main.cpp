@@ -131,7 +131,14 @@ int main(int argc, char** argv) {
   int ref_refine = 0;
   app.add_option("--ref-refine", ref_refine, "reference step = smallest dt / this (default 8)")
       ->check(CLI::Range(2, 64));
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {  // bad input: exit 2, like clothsim (CLI11's own codes vary)
+    std::cerr << "clothsim_wp: error: " << e.what() << "\n";
+    return 2;
+  }
 
   clothsim::wp::Settings settings;
   if (fast) {
@@ -173,18 +180,27 @@ int main(int argc, char** argv) {
     for (const auto& e : todo) model_cost(e);
     return 0;
   }
+  // The outputs <out>/<label>.csv/.svg before the study (minutes): a bad path is bad input now.
+  auto label_of = [stiffness_scale](const SceneEntry& e) {
+    if (stiffness_scale == 1.0) return std::string(e.name);
+    std::ostringstream o;
+    o << e.name << "_k" << stiffness_scale;
+    return o.str();
+  };
+  for (const auto& e : todo)
+    if (const std::string why = clothsim::wp::check_outputs(out_dir, label_of(e)); !why.empty()) {
+      std::cerr << "clothsim_wp: error: --out: " << why << "\n";
+      return 2;
+    }
   try {
     for (const auto& e : todo) {
       clothsim::wp::Settings s = settings;
       s.horizon = horizon > 0.0 ? horizon : (fast ? 0.05 : e.horizon);
       clothsim::Options options = clothsim::scene_options(*e.scene);
-      std::string label = e.name;
+      const std::string label = label_of(e);
       if (stiffness_scale != 1.0) {  // both kinds, before the build: nothing keeps the old values
         options.k_struct *= stiffness_scale;
         options.k_bend *= stiffness_scale;
-        std::ostringstream o;
-        o << e.name << "_k" << stiffness_scale;
-        label = o.str();
       }
       const clothsim::Model model = clothsim::build_model(*e.scene, options);
       const auto result = clothsim::wp::run(model, label, s, std::cerr);
@@ -196,7 +212,7 @@ int main(int argc, char** argv) {
         if (p.finite && !std::isfinite(p.error)) status = 1;
     }
   } catch (const std::exception& ex) {
-    std::cerr << "clothsim_wp: " << ex.what() << "\n";
+    std::cerr << "clothsim_wp: error: " << ex.what() << "\n";
     return 1;
   }
   return status;

@@ -1,5 +1,6 @@
 // Work-precision study; see workprecision.hpp and docs/work-precision.md.
 #include <clothsim/integrators.hpp>
+#include <clothsim/output_file.hpp>
 #include <clothsim/stability.hpp>
 #include <clothsim/step.hpp>
 #include <clothsim/workprecision.hpp>
@@ -9,7 +10,6 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <ostream>
@@ -275,21 +275,11 @@ void print_summary(const Result& r, std::ostream& out) {
 
 namespace {
 
-void write_atomically(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f) throw std::runtime_error(tmp.string() + ": cannot open for writing");
-    f << text;
-    f.flush();
-    if (!f) throw std::runtime_error(tmp.string() + ": write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(path.string() + ": cannot write (" + ec.message() + ")");
-  }
+// By the output rule (clothsim/output_file.hpp): a regular file through a temporary file and a
+// rename, a device in place, a directory refused; any failure throws, naming the file.
+void write_output(const std::filesystem::path& path, const std::string& text) {
+  if (const std::string err = io::write_output_file(path.string(), text); !err.empty())
+    throw std::runtime_error(err);
 }
 
 std::string csv(const Result& r) {
@@ -370,12 +360,22 @@ std::string svg(const Result& r) {
 
 }  // namespace
 
+std::string check_outputs(const std::string& dir, const std::string& scene) {
+  if (std::string why = io::check_output_dir(dir); !why.empty()) return why;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return {};  // created by write_outputs
+  for (const char* ext : {".csv", ".svg"})
+    if (std::string why = io::check_output_file((std::filesystem::path(dir) / (scene + ext)).string()); !why.empty())
+      return why;
+  return {};
+}
+
 void write_outputs(const Result& r, const std::string& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (ec) throw std::runtime_error(dir + ": cannot create directory (" + ec.message() + ")");
-  write_atomically(std::filesystem::path(dir) / (r.scene + ".csv"), csv(r));
-  write_atomically(std::filesystem::path(dir) / (r.scene + ".svg"), svg(r));
+  if (ec) throw std::runtime_error("cannot create directory '" + dir + "': " + ec.message());
+  write_output(std::filesystem::path(dir) / (r.scene + ".csv"), csv(r));
+  write_output(std::filesystem::path(dir) / (r.scene + ".svg"), svg(r));
 }
 
 }  // namespace clothsim::wp

@@ -56,6 +56,11 @@ struct StabilityReport {
 };
 StabilityReport analyse_stability(const Model& model);
 
+/// When report.dt_stable is 0 (no step size is stable): why, one line naming `method`: the
+/// model has no damping (explicit Euler and midpoint need some), too little, or omega_max or
+/// the damping rate overflowed (masses far too light).
+std::string never_stable_reason(const StabilityReport& report, Integrator method);
+
 /// One line for the terminal, e.g. "stability: omega_max 196 rad/s (...) -> dt_stable 0.0102 s".
 std::string describe(const StabilityReport& report, Integrator method);
 

@@ -62,7 +62,12 @@ struct Result {
 /// Runs the study on one Model; progress lines go to `progress`.
 Result run(const Model& model, const std::string& scene, const Settings& settings, std::ostream& progress);
 
-/// Writes <dir>/<scene>.csv and <dir>/<scene>.svg (each via a temporary file + rename).
+/// Before the study: empty, or why <dir>/<scene>.csv or .svg cannot be written (a directory in
+/// their place, `dir` not a directory, ...), one line naming the path.
+std::string check_outputs(const std::string& dir, const std::string& scene);
+
+/// Writes <dir>/<scene>.csv and <dir>/<scene>.svg by the output rule of clothsim/output_file.hpp
+/// (a regular file through a temporary file + rename, a device in place, a directory refused).
 /// Throws std::runtime_error naming the file on failure.
 void write_outputs(const Result& result, const std::string& dir);
 
