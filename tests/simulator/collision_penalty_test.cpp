@@ -116,6 +116,55 @@ TEST(CollisionPenalty, ClosedMeshPushesOutwardFromInsideAndOutside) {
   }
 }
 
+// A box [-1, 1]^3, outward faces, the face x = -1 first (lowest triangle indices), then y = +1.
+ColliderSet box_set() {
+  Eigen::Matrix3Xd v(3, 8);
+  for (int i = 0; i < 8; ++i) v.col(i) = Vector3d(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0);
+  const std::vector<std::uint32_t> idx = {0, 4, 6, 0, 6, 2,   // x = -1
+                                          2, 6, 7, 2, 7, 3,   // y = +1
+                                          1, 3, 7, 1, 7, 5,   // x = +1
+                                          0, 1, 5, 0, 5, 4,   // y = -1
+                                          0, 2, 3, 0, 3, 1,   // z = -1
+                                          4, 5, 7, 4, 7, 6};  // z = +1
+  ColliderSet set;
+  set.add_object("box", v, std::span<const std::uint32_t>(idx));
+  set.build();
+  return set;
+}
+
+// A point on the box's top exactly (or up to rounding) in the plane of a side face ties between
+// the two faces at their shared edge; the side face wins on its index. It is outside: never
+// classed as behind, on every query path (found by a cloth grid aligned with a box's side).
+TEST(CollisionPenalty, PointInASideFacesPlaneAboveTheBoxIsNotBehind) {
+  const ColliderSet set = box_set();
+  for (double dx : {0.0, 1e-12, -1e-12, 1e-10})
+    for (double h : {0.05, 0.093}) {
+      const Vector3d p(-1.0 + dx, 1.0 + h, 0.3);
+      Eigen::Matrix3Xd x(3, 1);
+      x.col(0) = p;
+      for (int path = 0; path < 3; ++path) {  // brute force, BVH + hints, ContactCache
+        Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, 1);
+        PenaltyStats st;
+        std::vector<std::int32_t> hints(1, -1);
+        clothsim::ContactCache cache;
+        cache.resize(1, set.object_count());
+        for (int call = 0; call < 2; ++call) {  // the second call: hints and certificates in use
+          f.setZero();
+          if (path == 0) accumulate_penalty(set, x, kEps, kRep, f, st, std::span<std::int32_t>{}, clothsim::QueryMethod::BruteForce);
+          else if (path == 1) accumulate_penalty(set, x, kEps, kRep, f, st, hints);
+          else accumulate_penalty(set, x, kEps, kRep, f, st, cache);
+          EXPECT_EQ(st.max_penetration, 0.0) << "dx " << dx << " h " << h << " path " << path;
+          EXPECT_EQ(st.tunnelled, 0u);
+          EXPECT_NEAR(f.col(0).norm(), kRep * (kEps - h), 1e-9) << "dx " << dx << " h " << h << " path " << path;
+        }
+      }
+    }
+  // Truly behind the side face, inside the box near the edge: still behind.
+  PenaltyStats st;
+  force_at(set, Vector3d(-1.0 + 0.01, 1.0 - 0.02, 0.3), &st);
+  EXPECT_NEAR(st.max_penetration, 0.01, 1e-12);
+}
+
 TEST(CollisionPenalty, ClosestTrianglePerObjectOnAnIcosphere) {
   // Summing every triangle within the band would multiply the force at a vertex (5-6 faces).
   ColliderSet set;

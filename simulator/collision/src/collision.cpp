@@ -839,7 +839,7 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
     // the other candidates and every other triangle stay farther: this is the answer
     if (!(d + moved + m < e.others_lb)) return false;
     hit = true;
-    signed_distance = s < 0.0 ? -d : d;  // detail::signed_distance(d2, s)
+    signed_distance = detail::signed_from(d, s);
     normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
   }
   if (e.age < kMinAge) ++e.age;

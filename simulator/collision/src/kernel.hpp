@@ -81,10 +81,15 @@ inline double closest_sq(const double p[3], const double* b, double& s) {
   return closest_sq_impl(p, [b](int k) { return b[k * static_cast<int>(Stride)]; }, s, v, w, region);
 }
 
-/// The signed distance from |P - Q|^2 and the plane side; +0 on the plane.
-inline double signed_distance(double d2, double s) {
-  const double d = std::sqrt(d2);
-  return s < 0.0 ? -d : d;
-}
+/// The signed distance from d = |P - Q| and s = n.(P - A): behind (-d) only when P is behind
+/// the plane by more than 1e-6 d. A point beyond an edge or a vertex that lies in the plane
+/// up to rounding (|s| tiny against d) is in front: there the plane does not say on which side
+/// of the solid P is, and for a convex edge it is outside. (A point on a box's top exactly in
+/// the plane of its side face ties between the two faces; the side face, taken on the index,
+/// used to call it behind by the height above the box: docs/collision.md "Distance".)
+inline double signed_from(double d, double s) { return s < 0.0 && -s > 1e-6 * d ? -d : d; }
+
+/// The same from |P - Q|^2; +0 on the plane.
+inline double signed_distance(double d2, double s) { return signed_from(std::sqrt(d2), s); }
 
 }  // namespace clothsim::detail
