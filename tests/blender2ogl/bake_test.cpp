@@ -160,6 +160,42 @@ TEST(Bake, PinHelperTooFarIsAnError) {
   }
 }
 
+// Blender writes object names with spaces as they are (`o My Cloth`); assimp alone keeps an
+// `o` name up to its first space, so "My Cloth" and "My Cloth_pins" both became "My" and the
+// pins went nowhere. Names are kept as the file writes them.
+TEST(Bake, ObjectNamesWithSpacesAreKeptWhole) {
+  const auto dir = scratch("bake_space_names");
+  write_file(dir / "m.obj",
+             "# Blender 4.1.1\n"
+             "o My Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n"
+             "o My Cloth_pins\nv 0 1 0\nv 1 1 0\n"
+             "o My  Box # a comment\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 7 8 9\n"
+             "o My_Cloth\nv 0 0 2\nv 1 0 2\nv 0 1 2\nf 10 11 12\n"
+             "g 100% wool\t \nv 0 0 3\nv 1 0 3\nv 0 1 3\nf 13 14 15\n"
+             "o Tag#1\r\nv 0 0 4\nv 1 0 4\nv 0 1 4\nf 16 17 18\n");
+  const auto s = convert(opts((dir / "m.obj").string(), {"My Cloth"}));
+  ASSERT_EQ(s.objects.size(), 5u);  // the helper is not an object
+  EXPECT_EQ(s.objects[0].name, "My Cloth");
+  EXPECT_EQ(s.objects[1].name, "My  Box");  // as written, the comment left out
+  EXPECT_EQ(s.objects[2].name, "My_Cloth");
+  EXPECT_EQ(s.objects[3].name, "100% wool");
+  EXPECT_EQ(s.objects[4].name, "Tag#1");  // '#' inside a name is no comment
+  // identifiers: cleaned, and distinct in file order ("My Cloth" and "My_Cloth" clean alike)
+  EXPECT_EQ(s.objects[0].identifier, "My_Cloth");
+  EXPECT_EQ(s.objects[1].identifier, "My_Box");
+  EXPECT_EQ(s.objects[2].identifier, "My_Cloth_2");
+  EXPECT_EQ(s.objects[3].identifier, "o100_wool");
+  ASSERT_EQ(s.cloths.size(), 1u);
+  EXPECT_EQ(s.cloths[0].object, 0u);
+  EXPECT_EQ(s.cloths[0].mass_count(), 4u);
+  ASSERT_EQ(s.cloths[0].pins.size(), 2u);  // "My Cloth_pins" pins "My Cloth"
+  EXPECT_EQ(s.warnings.size(), 0u);
+  // the identifier selects the other one
+  const auto t = convert(opts((dir / "m.obj").string(), {"My_Cloth_2"}));
+  ASSERT_EQ(t.cloths.size(), 1u);
+  EXPECT_EQ(t.cloths[0].object, 2u);
+}
+
 }  // namespace
 
 // Every message quotes input through quote_input: short text whole, long text clipped to 60
