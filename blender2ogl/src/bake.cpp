@@ -242,8 +242,14 @@ void bake_scene(Scene& s, const Options& opt, Stats& stats) {
   // Pins from the model: every vertex of `<OBJECT>_pins` pins the nearest mass of OBJECT.
   for (const auto& [helper, pts] : s.pin_points) {
     const std::string target = pin_target_name(helper);
+    std::string where = file;  // the helper's line when known
+    if (auto it = s.object_lines.find(helper); it != s.object_lines.end() && !it->second.empty())
+      where += ":" + std::to_string(it->second.front());
     if (find_object(s, target, stem) == nullptr)
-      throw InputError(file + ": pin object " + quote_input(helper) + " names no object " + quote_input(target));
+      throw InputError(where + ": pin object " + quote_input(helper) + " names no object " + quote_input(target) +
+                       " (the name before _pins/.pins must be an object's, as written); objects: " + object_list(s));
+    if (pts.size() < 3)
+      throw InputError(where + ": pin object " + quote_input(helper) + " has no vertices: it would pin nothing");
     Cloth* c = cloth_of(target);
     if (c == nullptr) {
       s.warnings.push_back(file + ": pin object " + quote_input(helper) + " ignored: " + quote_input(target) + " has no masses (-a)");

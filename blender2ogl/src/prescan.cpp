@@ -295,6 +295,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
         cuts.push_back({from, raw_end - name_at, encoded});
       }
       in_pin_object = is_pin_object_name(current_group);
+      if (in_pin_object) scan.pin_points[current_group];  // (a helper without vertices is an error)
       // Repeated names. assimp 5.2.5 finds an `o` name it has seen (from `o` or `g`) and makes
       // that object current but keeps adding faces to the mesh before it ("owner"); a `g` equal
       // to the active group is ignored, so after an `o` in between its faces go to that `o`'s

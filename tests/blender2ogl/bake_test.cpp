@@ -160,6 +160,33 @@ TEST(Bake, PinHelperTooFarIsAnError) {
   }
 }
 
+// A pin helper must pin something: one naming no object (a typo, or a name assimp cut short)
+// or with no vertices is an error at its line, never "0 pins".
+TEST(Bake, PinHelperNamingNoObjectOrEmptyIsAnError) {
+  const auto dir = scratch("bake_pin_helper_errors");
+  const std::string cloth = "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  write_file(dir / "typo.obj", cloth + "o Clth_pins\nv 0 0 0\n");
+  write_file(dir / "empty.obj", cloth + "o Cloth_pins\no Floor\nv 0 -1 0\nv 1 -1 0\nv 0 -1 1\nf 4 6 5\n");
+  struct Case {
+    const char* file;
+    std::vector<std::string> cloths;
+    const char* want;
+  };
+  for (const Case& c : {Case{"typo.obj", {"Cloth"}, "typo.obj:6: pin object 'Clth_pins' names no object 'Clth'"},
+                        Case{"typo.obj", {}, "typo.obj:6: pin object 'Clth_pins' names no object 'Clth'"},
+                        Case{"empty.obj", {"Cloth"}, "empty.obj:6: pin object 'Cloth_pins' has no vertices"}}) {
+    try {
+      convert(opts((dir / c.file).string(), c.cloths));
+      ADD_FAILURE() << c.file << ": no error";
+    } catch (const conv::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(c.want), std::string::npos) << e.what();
+      if (std::string(c.file) == "typo.obj") {
+        EXPECT_NE(std::string(e.what()).find("objects: 'Cloth'"), std::string::npos) << e.what();
+      }
+    }
+  }
+}
+
 // Blender writes object names with spaces as they are (`o My Cloth`); assimp alone keeps an
 // `o` name up to its first space, so "My Cloth" and "My Cloth_pins" both became "My" and the
 // pins went nowhere. Names are kept as the file writes them.
