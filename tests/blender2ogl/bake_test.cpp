@@ -1,6 +1,7 @@
 // bake: weld by exact position, springs (structural then bend), triangles, pins, warnings.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -185,6 +186,53 @@ TEST(Bake, PinHelperNamingNoObjectOrEmptyIsAnError) {
       }
     }
   }
+}
+
+// A unit cube as OBJ text: 6 quads, counter-clockwise seen from outside unless `flip` lists
+// a face to reverse (all 6: the whole cube inside out); `drop` leaves a face out (open box).
+std::string cube_obj(const std::string& name, float x0, std::vector<int> flip, int drop, int first_vertex) {
+  std::string t = "o " + name + "\n";
+  for (int i = 0; i < 8; ++i)
+    t += "v " + std::to_string(x0 + float(i & 1)) + " " + std::to_string((i >> 1) & 1) + " " + std::to_string((i >> 2) & 1) + "\n";
+  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (int f = 0; f < 6; ++f) {
+    if (f == drop) continue;
+    int q[4] = {faces[f][0], faces[f][1], faces[f][2], faces[f][3]};
+    if (std::find(flip.begin(), flip.end(), f) != flip.end()) std::swap(q[1], q[3]);
+    t += "f";
+    for (int k : q) t += " " + std::to_string(first_vertex + k);
+    t += "\n";
+  }
+  return t;
+}
+
+// A closed collider whose faces point inwards pushes the cloth into it: a warning naming the
+// file, line, object and volume, saying how to fix it; also for faces pointing both ways.
+// Open meshes (a floor, an open box) have no inside: no warning; nor has the cloth.
+TEST(Bake, InwardOrInconsistentClosedCollidersAreWarned) {
+  const auto dir = scratch("bake_collider_orientation");
+  const std::string cloth = "o Cloth\nv 0 3 0\nv 1 3 0\nv 0 3 1\nf 1 3 2\n";
+  const std::vector<int> all = {0, 1, 2, 3, 4, 5};
+  write_file(dir / "m.obj", cloth + cube_obj("Good", 0, {}, -1, 4) + cube_obj("Inside Out", 2, all, -1, 12) +
+                                cube_obj("Mixed", 4, {3}, -1, 20) + cube_obj("OpenBox", 6, all, 1, 28) +
+                                "o Floor\nv -9 0 -9\nv 9 0 -9\nv 9 0 9\nf 36 37 38\n");
+  const auto s = convert(opts((dir / "m.obj").string(), {"Cloth"}));
+  std::string all_warnings;
+  for (const auto& w : s.warnings) all_warnings += w + "\n";
+  ASSERT_EQ(s.warnings.size(), 2u) << all_warnings;
+  EXPECT_NE(s.warnings[0].find("m.obj:21: collider 'Inside Out': closed mesh with negative volume (-1 m^3): its faces "
+                               "point inwards, so the cloth is pushed into it; fix it in Blender: Edit Mode, select "
+                               "all, Mesh > Normals > Recalculate Outside"),
+            std::string::npos)
+      << all_warnings;
+  EXPECT_NE(s.warnings[1].find("m.obj:36: collider 'Mixed': closed mesh with inconsistently oriented faces (4 edges "
+                               "used twice in the same direction)"),
+            std::string::npos)
+      << all_warnings;
+  EXPECT_NE(s.warnings[1].find("Recalculate Outside"), std::string::npos);
+  // the cube as the cloth: no collider, no warning
+  const auto c = convert(opts((dir / "m.obj").string(), {"Cloth", "Inside Out", "Mixed"}));
+  EXPECT_EQ(c.warnings.size(), 0u);
 }
 
 // Blender writes object names with spaces as they are (`o My Cloth`); assimp alone keeps an
