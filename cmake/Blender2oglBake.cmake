@@ -13,9 +13,65 @@
 #
 # Inside the clothsim tree the converter is the blender2ogl target; an installed package
 # provides the imported target blender2ogl::blender2ogl (find_package(blender2ogl)).
+#
+# PARAMS keys must be among BLENDER2OGL_PARAM_KEYS (below), else the configure stops naming
+# the scene and the key ("did you mean k_struct?" for k-struct=...).
 include_guard(GLOBAL)
 cmake_policy(PUSH)
 cmake_policy(VERSION 3.25)  # CMP0116: depfile paths made relative for Ninja
+
+# The keys PARAMS may bake: the simulator options its scene adapter reads from Scene::params
+# (clothsim::scene_param_keys(), simulator/scene/src/scene.cpp). This list is the one the
+# build checks; the test SceneAdapter.ParamKeysAreTheCMakeList fails when the two differ.
+# Units: dt s, mass kg per mass, k_struct/k_bend N/m, damping N s/m, gravity_x/y/z m/s^2,
+# epsilon m (collision shell), k_rep N/m (collision penalty).
+set_property(GLOBAL PROPERTY BLENDER2OGL_PARAM_KEYS
+  dt mass k_struct k_bend damping gravity_x gravity_y gravity_z epsilon k_rep)
+
+# Stops the configure when a PARAMS entry is not KEY=VALUE with a known KEY.
+function(_blender2ogl_check_params scene)
+  get_property(valid GLOBAL PROPERTY BLENDER2OGL_PARAM_KEYS)
+  list(JOIN valid ", " shown)
+  set(problems "")
+  foreach(p IN LISTS ARGN)
+    if(NOT p MATCHES "^([^=]+)=(.*)$")
+      string(APPEND problems "\n  '${p}': expected KEY=VALUE (e.g. dt=0.002)")
+      continue()
+    endif()
+    set(key "${CMAKE_MATCH_1}")
+    if(key IN_LIST valid)
+      continue()
+    endif()
+    # a hint: the underscore spelling (the command line's --k-struct is PARAMS k_struct), a
+    # case slip, a key cut short (mas -> mass, gravity -> gravity_x/y/z) or too long
+    string(REPLACE "-" "_" fixed "${key}")
+    string(TOLOWER "${fixed}" fixed)
+    set(hints "")
+    if(fixed IN_LIST valid)
+      set(hints "${fixed}")
+    else()
+      string(LENGTH "${fixed}" n)
+      foreach(k IN LISTS valid)
+        string(LENGTH "${k}" kn)
+        string(FIND "${k}" "${fixed}" at)
+        string(FIND "${fixed}" "${k}" at2)
+        if((n GREATER 1 AND at EQUAL 0) OR (kn GREATER 1 AND at2 EQUAL 0))
+          list(APPEND hints "${k}")
+        endif()
+      endforeach()
+    endif()
+    set(hint "")
+    if(hints)
+      list(JOIN hints " or " hints)
+      set(hint " (did you mean ${hints}?)")
+    endif()
+    string(APPEND problems "\n  '${key}' is not a scene parameter${hint}")
+  endforeach()
+  if(problems)
+    message(FATAL_ERROR "blender2ogl_add_scene(${scene}): bad PARAMS:${problems}\n"
+                        "Valid keys (underscores, as the simulator reads them): ${shown}")
+  endif()
+endfunction()
 
 function(blender2ogl_add_scene name)
   cmake_parse_arguments(PARSE_ARGV 1 B2O "COMBINED;NO_REVERSE_MAP;ALLOW_MISSING" "OBJ" "CLOTH;PIN;PARAMS;DEPENDS")
@@ -28,6 +84,7 @@ function(blender2ogl_add_scene name)
   if(NOT B2O_OBJ)
     message(FATAL_ERROR "blender2ogl_add_scene(${name}): OBJ <file> is required")
   endif()
+  _blender2ogl_check_params(${name} ${B2O_PARAMS})
   get_filename_component(obj "${B2O_OBJ}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
   if(NOT EXISTS "${obj}" OR IS_DIRECTORY "${obj}")
     message(FATAL_ERROR "blender2ogl_add_scene(${name}): ${obj}: no such model file")

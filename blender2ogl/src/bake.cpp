@@ -1,5 +1,7 @@
 // bake: cloth data for the `-a` objects: weld by exact position, springs, triangles, pins.
 #include <algorithm>
+#include <array>
+#include <cstdio>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -198,6 +200,112 @@ Cloth build_cloth(Scene& s, std::uint32_t object_index, bool reverse, Stats& sta
   return c;
 }
 
+// A collider pushes the cloth out along its faces' normals: a closed mesh whose faces point
+// inwards (negative signed volume) pushes the cloth into it. Warned for closed meshes (every
+// edge of exactly two triangles), per connected part: an open mesh (a floor plane) has no
+// inside. A closed part with an edge used twice in the same direction has faces pointing
+// both ways: warned too. Vertices are welded by exact position (split normals and UVs).
+void check_collider_orientation(Scene& s, const Object& o, const std::string& file) {
+  std::unordered_map<Key, std::uint32_t, KeyHash> weld;
+  std::vector<const float*> point;
+  std::vector<std::uint32_t> vid(o.vertex_count);
+  for (std::uint32_t v = 0; v < o.vertex_count; ++v) {
+    const float* p = &s.positions[3 * (o.first_vertex + v)];
+    auto [it, added] = weld.try_emplace(Key{bits(p[0]), bits(p[1]), bits(p[2])}, static_cast<std::uint32_t>(point.size()));
+    if (added) point.push_back(p);
+    vid[v] = it->second;
+  }
+  // connected parts (union-find over welded vertices)
+  std::vector<std::uint32_t> parent(point.size());
+  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  auto root = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  struct Directed {
+    std::uint64_t key;  // (min << 32) | max
+    bool forward;       // a < b as the triangle runs
+  };
+  std::vector<Directed> edges;
+  std::vector<std::array<std::uint32_t, 3>> tris;
+  for (std::uint32_t i = o.first_index; i + 2 < o.first_index + o.index_count; i += 3) {
+    const std::array<std::uint32_t, 3> t = {vid[s.indices[i] - o.first_vertex], vid[s.indices[i + 1] - o.first_vertex],
+                                            vid[s.indices[i + 2] - o.first_vertex]};
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;  // no edge of a closed surface
+    tris.push_back(t);
+    for (int e = 0; e < 3; ++e) {
+      const std::uint64_t a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
+      edges.push_back({(std::min(a, b) << 32) | std::max(a, b), a < b});
+      parent[root(static_cast<std::uint32_t>(a))] = root(static_cast<std::uint32_t>(b));
+    }
+  }
+  std::sort(edges.begin(), edges.end(), [](const Directed& x, const Directed& y) { return x.key < y.key; });
+  // per part: open (an edge not of exactly two triangles), same-direction edges, volume
+  std::map<std::uint32_t, std::size_t> part_index;
+  struct Part {
+    bool open = false;
+    std::size_t same_direction = 0;
+    double volume = 0.0, size = 0.0;
+  };
+  std::vector<Part> parts;
+  auto part_of = [&](std::uint32_t vertex) -> Part& {
+    auto [it, added] = part_index.try_emplace(root(vertex), parts.size());
+    if (added) parts.emplace_back();
+    return parts[it->second];
+  };
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j].key == edges[i].key) ++j;
+    Part& part = part_of(static_cast<std::uint32_t>(edges[i].key >> 32));
+    if (j - i != 2)
+      part.open = true;
+    else if (edges[i].forward == edges[i + 1].forward)
+      ++part.same_direction;
+    i = j;
+  }
+  for (const auto& t : tris) {
+    const float *a = point[t[0]], *b = point[t[1]], *c = point[t[2]];
+    // (relative to the first vertex: the same volume for a closed surface, less rounding)
+    const float* o0 = point[0];
+    const double p[3] = {double(a[0]) - o0[0], double(a[1]) - o0[1], double(a[2]) - o0[2]};
+    const double q[3] = {double(b[0]) - o0[0], double(b[1]) - o0[1], double(b[2]) - o0[2]};
+    const double r[3] = {double(c[0]) - o0[0], double(c[1]) - o0[1], double(c[2]) - o0[2]};
+    Part& part = part_of(t[0]);
+    part.volume += (p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0]) +
+                    p[2] * (q[0] * r[1] - q[1] * r[0])) / 6.0;
+    for (int k = 0; k < 3; ++k)
+      part.size = std::max({part.size, std::fabs(p[k]), std::fabs(q[k]), std::fabs(r[k])});
+  }
+  std::string where = file;
+  if (auto it = s.object_lines.find(o.name); it != s.object_lines.end() && !it->second.empty())
+    where += ":" + std::to_string(it->second.front());
+  const std::string fix = "; fix it in Blender: Edit Mode, select all, Mesh > Normals > Recalculate Outside";
+  std::size_t inconsistent = 0, inward = 0, closed = 0;
+  double volume = 0.0;
+  for (const Part& part : parts) {
+    if (part.open) continue;
+    ++closed;
+    if (part.same_direction > 0) {
+      inconsistent += part.same_direction;
+    } else if (part.volume < -1e-9 * part.size * part.size * part.size) {
+      ++inward;
+      volume += part.volume;
+    }
+  }
+  const std::string of = closed > 1 ? " of " + std::to_string(closed) + " closed parts" : "";
+  if (inconsistent > 0)
+    s.warnings.push_back(where + ": collider " + quote_input(o.name) + ": closed mesh with inconsistently oriented faces (" +
+                         std::to_string(inconsistent) + " edges used twice in the same direction): the cloth is pushed " +
+                         "into it where its faces point inwards" + fix);
+  if (inward > 0) {
+    char vol[64];
+    std::snprintf(vol, sizeof vol, "%.6g", volume);
+    s.warnings.push_back(where + ": collider " + quote_input(o.name) + ": closed mesh with negative volume (" + vol +
+                         " m^3" + (closed > 1 ? ", " + std::to_string(inward) + of : "") +
+                         "): its faces point inwards, so the cloth is pushed into it" + fix);
+  }
+}
+
 }  // namespace
 
 void bake_scene(Scene& s, const Options& opt, Stats& stats) {
@@ -234,6 +342,9 @@ void bake_scene(Scene& s, const Options& opt, Stats& stats) {
     s.cloths.push_back(build_cloth(s, idx, opt.reverse_map, stats, file));
   }
 
+  for (const Object& o : s.objects)
+    if (o.cloth < 0 && o.index_count > 0) check_collider_orientation(s, o, file);
+
   auto cloth_of = [&](const std::string& name) -> Cloth* {
     const Object* o = find_object(s, name, stem);
     if (o == nullptr || o->cloth < 0) return nullptr;
@@ -242,8 +353,14 @@ void bake_scene(Scene& s, const Options& opt, Stats& stats) {
   // Pins from the model: every vertex of `<OBJECT>_pins` pins the nearest mass of OBJECT.
   for (const auto& [helper, pts] : s.pin_points) {
     const std::string target = pin_target_name(helper);
+    std::string where = file;  // the helper's line when known
+    if (auto it = s.object_lines.find(helper); it != s.object_lines.end() && !it->second.empty())
+      where += ":" + std::to_string(it->second.front());
     if (find_object(s, target, stem) == nullptr)
-      throw InputError(file + ": pin object " + quote_input(helper) + " names no object " + quote_input(target));
+      throw InputError(where + ": pin object " + quote_input(helper) + " names no object " + quote_input(target) +
+                       " (the name before _pins/.pins must be an object's, as written); objects: " + object_list(s));
+    if (pts.size() < 3)
+      throw InputError(where + ": pin object " + quote_input(helper) + " has no vertices: it would pin nothing");
     Cloth* c = cloth_of(target);
     if (c == nullptr) {
       s.warnings.push_back(file + ": pin object " + quote_input(helper) + " ignored: " + quote_input(target) + " has no masses (-a)");

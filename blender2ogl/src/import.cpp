@@ -354,6 +354,8 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
   for (const auto& [node, transform] : nodes) {
     Object obj;
     obj.name = node->mName.C_Str();
+    // (the pre-scan gave assimp OBJ names encoded, spaces and all: see encode_object_name)
+    if (is_obj) obj.name = decode_object_name(obj.name);
     // OBJ without `o`/`g`: assimp invents a name; the object is named after the file.
     if (is_obj && scan.groups == 0) obj.name = file.stem().string();
     while (!obj.name.empty() && (obj.name.back() == '\r' || obj.name.back() == '\n')) obj.name.pop_back();

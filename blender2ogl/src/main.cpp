@@ -25,8 +25,9 @@ Options:
   -s, --separate          header + sources + .S/.bin (the default; the fast path for big scenes)
   -c, --combined          one header with everything as text (exact hex floats; small scenes only)
   -m, --merge             merge all objects into one (named after the file)
-  -a, --cloth OBJECT      give OBJECT masses and springs (repeatable); the 2016 form
-                          <file>_<OBJECT> is accepted too
+  -a, --cloth OBJECT      give OBJECT masses and springs (repeatable); OBJECT as written in
+                          the file (spaces allowed: -a "My Cloth") or its C++ identifier;
+                          the 2016 form <file>_<OBJECT> is accepted too
   -r, --reverse-map       also bake render vertex -> mass (Cloth::vertex_mass)
   -o, --object-metadata   accepted for compatibility: object tables are always written
   -n, --name NAME         scene name: C++ namespace b2o::gen::NAME and output file stem

@@ -91,10 +91,14 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     fail(file, 1, "UTF-16 text is not supported; save the file as UTF-8 (Blender does)");
   // A UTF-8 byte-order mark: assimp would read it as part of the first statement (and drop
   // that statement); it gets the text without it.
-  std::vector<std::pair<std::size_t, std::size_t>> cuts;  // (offset, length) left out for assimp
+  struct Cut {
+    std::size_t at = 0, length = 0;  // bytes of the file assimp does not get
+    std::string instead;             // and what it gets there
+  };
+  std::vector<Cut> cuts;  // in file order
   if (rest.substr(0, 3) == "\xEF\xBB\xBF") {
     rest.remove_prefix(3);
-    cuts.emplace_back(0, 3);
+    cuts.push_back({0, 3, {}});
   }
 
   std::size_t line_no = 0;
@@ -171,7 +175,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       const std::size_t from = static_cast<std::size_t>(tok.back().data() + tok.back().size() - text.data());
       std::size_t to = static_cast<std::size_t>(line.data() + line.size() - text.data());
       if (!line.empty() && line.back() == '\r') --to;
-      cuts.emplace_back(from, to - from);
+      cuts.push_back({from, to - from, {}});
     }
     double values[4] = {0, 0, 0, 0};
     auto numbers = [&](std::size_t min_count, const char* what) -> const double* {
@@ -257,14 +261,41 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       if (face) ++scan.faces; else ++scan.lines_points;
     } else if (key == "o" || key == "g") {
       ++scan.groups;
-      current_group = tok.size() > 1 ? std::string(tok[1]) : std::string();
-      // as assimp names them: `o` up to the first space, `g` the whole rest
-      for (std::size_t k = 2; k < tok.size() && key == "g"; ++k) current_group.append(" ").append(tok[k]);
+      // The name as the file writes it: the rest of the line, spaces inside kept (Blender
+      // writes `o My Cloth`), up to a comment (a '#' after a space) and trimmed.
+      current_group.clear();
+      std::size_t name_at = std::string_view::npos, raw_end = body_all.size();
+      if (tok.size() > 1) {
+        name_at = static_cast<std::size_t>(tok[1].data() - body_all.data());
+        std::size_t stop = body_all.size();
+        for (std::size_t i = name_at; i < body_all.size(); ++i)
+          if (body_all[i] == '#' && (body_all[i - 1] == ' ' || body_all[i - 1] == '\t')) {
+            stop = i;
+            break;
+          }
+        if (!body_all.empty() && body_all.back() == '\r') raw_end = body_all.size() - 1;
+        stop = std::min(stop, raw_end);
+        while (stop > name_at && (body_all[stop - 1] == ' ' || body_all[stop - 1] == '\t' ||
+                                  body_all[stop - 1] == '\f' || body_all[stop - 1] == '\v'))
+          --stop;
+        current_group.assign(body_all.substr(name_at, stop - name_at));
+      }
+      // assimp reads an `o` name up to its first space and a `g` name with the rest of the
+      // line (comment and trailing spaces included); it is given the name encoded (spaces,
+      // '#' and '%' as %XX, see decode_object_name) and the import decodes it.
+      const std::string encoded = encode_object_name(current_group);
       // assimp's aiString holds 1023 bytes: a longer name would silently become ""
-      if (current_group.size() > 1023)
-        fail(file, start_line, "object name longer than 1023 bytes (" + std::to_string(current_group.size()) + "): " +
-                                   quote_input(current_group));
+      if (encoded.size() > 1023)
+        fail(file, start_line, "object name longer than 1023 bytes (" + std::to_string(encoded.size()) +
+                                   (encoded.size() != current_group.size() ? " with its spaces encoded" : "") +
+                                   "): " + quote_input(current_group));
+      if (name_at != std::string_view::npos && body_all.substr(name_at, raw_end - name_at) != encoded) {
+        if (continued) fail(file, start_line, "an object name on a continued line ('\\' at the end) is not supported");
+        const std::size_t from = static_cast<std::size_t>(body_all.data() - text.data()) + name_at;
+        cuts.push_back({from, raw_end - name_at, encoded});
+      }
       in_pin_object = is_pin_object_name(current_group);
+      if (in_pin_object) scan.pin_points[current_group];  // (a helper without vertices is an error)
       // Repeated names. assimp 5.2.5 finds an `o` name it has seen (from `o` or `g`) and makes
       // that object current but keeps adding faces to the mesh before it ("owner"); a `g` equal
       // to the active group is ignored, so after an `o` in between its faces go to that `o`'s
@@ -316,9 +347,10 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     scan.cleaned = true;
     scan.clean_text.reserve(text.size());
     std::size_t from = 0;
-    for (const auto& [at, length] : cuts) {
-      scan.clean_text.append(text, from, at - from);
-      from = at + length;
+    for (const Cut& c : cuts) {
+      scan.clean_text.append(text, from, c.at - from);
+      scan.clean_text.append(c.instead);
+      from = c.at + c.length;
     }
     scan.clean_text.append(text, from, std::string::npos);
   }
@@ -423,6 +455,41 @@ MtlScan prescan_mtl_file(const std::filesystem::path& file) {
   }
   if (!scan.cleaned) scan.clean_text.clear();
   return scan;
+}
+
+std::string encode_object_name(const std::string& name) {
+  std::string out;
+  out.reserve(name.size());
+  for (unsigned char c : name) {
+    if (c == ' ' || c == '\t' || c == '\f' || c == '\v' || c == '#' || c == '%') {
+      const char* hex = "0123456789ABCDEF";
+      out.push_back('%');
+      out.push_back(hex[c >> 4]);
+      out.push_back(hex[c & 15]);
+    } else {
+      out.push_back(static_cast<char>(c));
+    }
+  }
+  return out;
+}
+
+std::string decode_object_name(const std::string& name) {
+  auto hex = [](char c) -> int {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+  };
+  std::string out;
+  out.reserve(name.size());
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    if (name[i] == '%' && i + 2 < name.size() && hex(name[i + 1]) >= 0 && hex(name[i + 2]) >= 0) {
+      out.push_back(static_cast<char>(hex(name[i + 1]) * 16 + hex(name[i + 2])));
+      i += 2;
+    } else {
+      out.push_back(name[i]);
+    }
+  }
+  return out;
 }
 
 bool is_pin_object_name(const std::string& name) {

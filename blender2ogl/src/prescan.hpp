@@ -48,6 +48,12 @@ struct MtlScan {
 };
 MtlScan prescan_mtl_file(const std::filesystem::path& file);
 
+/// An `o`/`g` name as assimp is given it: ' ', tab, form feed, vertical tab, '#' and '%' as
+/// %XX (upper-case hex), so that assimp keeps the whole name; every other byte as it is.
+std::string encode_object_name(const std::string& name);
+/// The inverse, applied to every object name assimp reports for an OBJ file.
+std::string decode_object_name(const std::string& name);
+
 bool is_pin_object_name(const std::string& name);
 /// "Cloth_pins" -> "Cloth"
 std::string pin_target_name(const std::string& name);

@@ -1,6 +1,7 @@
 // bake: weld by exact position, springs (structural then bend), triangles, pins, warnings.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -158,6 +159,116 @@ TEST(Bake, PinHelperTooFarIsAnError) {
     EXPECT_NE(std::string(e.what()).find("far.obj"), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("Cloth_pins"), std::string::npos);
   }
+}
+
+// A pin helper must pin something: one naming no object (a typo, or a name assimp cut short)
+// or with no vertices is an error at its line, never "0 pins".
+TEST(Bake, PinHelperNamingNoObjectOrEmptyIsAnError) {
+  const auto dir = scratch("bake_pin_helper_errors");
+  const std::string cloth = "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  write_file(dir / "typo.obj", cloth + "o Clth_pins\nv 0 0 0\n");
+  write_file(dir / "empty.obj", cloth + "o Cloth_pins\no Floor\nv 0 -1 0\nv 1 -1 0\nv 0 -1 1\nf 4 6 5\n");
+  struct Case {
+    const char* file;
+    std::vector<std::string> cloths;
+    const char* want;
+  };
+  for (const Case& c : {Case{"typo.obj", {"Cloth"}, "typo.obj:6: pin object 'Clth_pins' names no object 'Clth'"},
+                        Case{"typo.obj", {}, "typo.obj:6: pin object 'Clth_pins' names no object 'Clth'"},
+                        Case{"empty.obj", {"Cloth"}, "empty.obj:6: pin object 'Cloth_pins' has no vertices"}}) {
+    try {
+      convert(opts((dir / c.file).string(), c.cloths));
+      ADD_FAILURE() << c.file << ": no error";
+    } catch (const conv::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(c.want), std::string::npos) << e.what();
+      if (std::string(c.file) == "typo.obj") {
+        EXPECT_NE(std::string(e.what()).find("objects: 'Cloth'"), std::string::npos) << e.what();
+      }
+    }
+  }
+}
+
+// A unit cube as OBJ text: 6 quads, counter-clockwise seen from outside unless `flip` lists
+// a face to reverse (all 6: the whole cube inside out); `drop` leaves a face out (open box).
+std::string cube_obj(const std::string& name, float x0, std::vector<int> flip, int drop, int first_vertex) {
+  std::string t = "o " + name + "\n";
+  for (int i = 0; i < 8; ++i)
+    t += "v " + std::to_string(x0 + float(i & 1)) + " " + std::to_string((i >> 1) & 1) + " " + std::to_string((i >> 2) & 1) + "\n";
+  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (int f = 0; f < 6; ++f) {
+    if (f == drop) continue;
+    int q[4] = {faces[f][0], faces[f][1], faces[f][2], faces[f][3]};
+    if (std::find(flip.begin(), flip.end(), f) != flip.end()) std::swap(q[1], q[3]);
+    t += "f";
+    for (int k : q) t += " " + std::to_string(first_vertex + k);
+    t += "\n";
+  }
+  return t;
+}
+
+// A closed collider whose faces point inwards pushes the cloth into it: a warning naming the
+// file, line, object and volume, saying how to fix it; also for faces pointing both ways.
+// Open meshes (a floor, an open box) have no inside: no warning; nor has the cloth.
+TEST(Bake, InwardOrInconsistentClosedCollidersAreWarned) {
+  const auto dir = scratch("bake_collider_orientation");
+  const std::string cloth = "o Cloth\nv 0 3 0\nv 1 3 0\nv 0 3 1\nf 1 3 2\n";
+  const std::vector<int> all = {0, 1, 2, 3, 4, 5};
+  write_file(dir / "m.obj", cloth + cube_obj("Good", 0, {}, -1, 4) + cube_obj("Inside Out", 2, all, -1, 12) +
+                                cube_obj("Mixed", 4, {3}, -1, 20) + cube_obj("OpenBox", 6, all, 1, 28) +
+                                "o Floor\nv -9 0 -9\nv 9 0 -9\nv 9 0 9\nf 36 37 38\n");
+  const auto s = convert(opts((dir / "m.obj").string(), {"Cloth"}));
+  std::string all_warnings;
+  for (const auto& w : s.warnings) all_warnings += w + "\n";
+  ASSERT_EQ(s.warnings.size(), 2u) << all_warnings;
+  EXPECT_NE(s.warnings[0].find("m.obj:21: collider 'Inside Out': closed mesh with negative volume (-1 m^3): its faces "
+                               "point inwards, so the cloth is pushed into it; fix it in Blender: Edit Mode, select "
+                               "all, Mesh > Normals > Recalculate Outside"),
+            std::string::npos)
+      << all_warnings;
+  EXPECT_NE(s.warnings[1].find("m.obj:36: collider 'Mixed': closed mesh with inconsistently oriented faces (4 edges "
+                               "used twice in the same direction)"),
+            std::string::npos)
+      << all_warnings;
+  EXPECT_NE(s.warnings[1].find("Recalculate Outside"), std::string::npos);
+  // the cube as the cloth: no collider, no warning
+  const auto c = convert(opts((dir / "m.obj").string(), {"Cloth", "Inside Out", "Mixed"}));
+  EXPECT_EQ(c.warnings.size(), 0u);
+}
+
+// Blender writes object names with spaces as they are (`o My Cloth`); assimp alone keeps an
+// `o` name up to its first space, so "My Cloth" and "My Cloth_pins" both became "My" and the
+// pins went nowhere. Names are kept as the file writes them.
+TEST(Bake, ObjectNamesWithSpacesAreKeptWhole) {
+  const auto dir = scratch("bake_space_names");
+  write_file(dir / "m.obj",
+             "# Blender 4.1.1\n"
+             "o My Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n"
+             "o My Cloth_pins\nv 0 1 0\nv 1 1 0\n"
+             "o My  Box # a comment\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 7 8 9\n"
+             "o My_Cloth\nv 0 0 2\nv 1 0 2\nv 0 1 2\nf 10 11 12\n"
+             "g 100% wool\t \nv 0 0 3\nv 1 0 3\nv 0 1 3\nf 13 14 15\n"
+             "o Tag#1\r\nv 0 0 4\nv 1 0 4\nv 0 1 4\nf 16 17 18\n");
+  const auto s = convert(opts((dir / "m.obj").string(), {"My Cloth"}));
+  ASSERT_EQ(s.objects.size(), 5u);  // the helper is not an object
+  EXPECT_EQ(s.objects[0].name, "My Cloth");
+  EXPECT_EQ(s.objects[1].name, "My  Box");  // as written, the comment left out
+  EXPECT_EQ(s.objects[2].name, "My_Cloth");
+  EXPECT_EQ(s.objects[3].name, "100% wool");
+  EXPECT_EQ(s.objects[4].name, "Tag#1");  // '#' inside a name is no comment
+  // identifiers: cleaned, and distinct in file order ("My Cloth" and "My_Cloth" clean alike)
+  EXPECT_EQ(s.objects[0].identifier, "My_Cloth");
+  EXPECT_EQ(s.objects[1].identifier, "My_Box");
+  EXPECT_EQ(s.objects[2].identifier, "My_Cloth_2");
+  EXPECT_EQ(s.objects[3].identifier, "o100_wool");
+  ASSERT_EQ(s.cloths.size(), 1u);
+  EXPECT_EQ(s.cloths[0].object, 0u);
+  EXPECT_EQ(s.cloths[0].mass_count(), 4u);
+  ASSERT_EQ(s.cloths[0].pins.size(), 2u);  // "My Cloth_pins" pins "My Cloth"
+  EXPECT_EQ(s.warnings.size(), 0u);
+  // the identifier selects the other one
+  const auto t = convert(opts((dir / "m.obj").string(), {"My_Cloth_2"}));
+  ASSERT_EQ(t.cloths.size(), 1u);
+  EXPECT_EQ(t.cloths[0].object, 2u);
 }
 
 }  // namespace

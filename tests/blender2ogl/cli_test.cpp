@@ -93,6 +93,28 @@ TEST(Cli, HelpVersionAndStatistics) {
   EXPECT_EQ(bins, 1);
 }
 
+// The new-user case: Blender's `o My Cloth` + `o My Cloth_pins`; `-a "My Cloth"` selects it
+// and the helper pins it (it used to give "0 pins, warnings 0").
+TEST(Cli, ObjectNamesWithSpacesSelectAndPin) {
+  const auto dir = scratch("cli_space_names");
+  write_file(dir / "m.obj", "o My Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n"
+                            "o My Cloth_pins\nv 0 1 0\nv 1 1 0\n"
+                            "o My Floor\nv 0 -1 0\nv 1 -1 0\nv 0 -1 1\nf 7 5 6\n");
+  const auto r = run_converter({"-v", "-a", "My Cloth", "-t", (dir / "out").string(), (dir / "m.obj").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* k : {"objects    2", "cloths     1", "masses     4", "pins       2", "warnings   0",
+                        "cloth My Cloth: 4 masses"})
+    EXPECT_NE(r.output.find(k), std::string::npos) << k << "\n" << r.output;
+  const std::string h = read_file(dir / "out" / "m.h");
+  EXPECT_NE(h.find("My_Cloth = 0"), std::string::npos) << h;
+  EXPECT_NE(h.find("My_Floor = 1"), std::string::npos) << h;
+  // the first word alone is no object: an error listing the names
+  const auto bad = run_converter({"-a", "My", "-t", (dir / "out2").string(), (dir / "m.obj").string()});
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find("no object 'My'"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("'My Cloth', 'My Floor'"), std::string::npos) << bad.output;
+}
+
 }  // namespace
 
 namespace {

@@ -6,7 +6,10 @@
 #include <blender2ogl/scene_types.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <set>
 #include <stdexcept>
+#include <string>
 
 namespace clothsim {
 namespace {
@@ -55,6 +58,35 @@ TEST(SceneAdapter, ParamsOverrideDefaultsAndUnknownKeysAreReported) {
   EXPECT_EQ(o.mass, Options{}.mass);
   ASSERT_EQ(unknown.size(), 1u);
   EXPECT_EQ(unknown[0], "camera_distance");
+}
+
+// One source of truth for the PARAMS keys: the build refuses keys outside the CMake list
+// (cmake/Blender2oglBake.cmake), so the list must be exactly the keys the adapter reads.
+TEST(SceneAdapter, ParamKeysAreTheCMakeList) {
+  std::set<std::string> cmake_keys;
+  const std::string list = B2O_CMAKE_PARAM_KEYS;
+  for (std::size_t at = 0; at <= list.size();) {
+    const std::size_t comma = std::min(list.find(',', at), list.size());
+    if (comma > at) cmake_keys.insert(list.substr(at, comma - at));
+    at = comma + 1;
+  }
+  const std::set<std::string> adapter_keys(scene_param_keys().begin(), scene_param_keys().end());
+  EXPECT_EQ(adapter_keys.size(), scene_param_keys().size()) << "a key listed twice";
+  EXPECT_EQ(cmake_keys, adapter_keys) << "update BLENDER2OGL_PARAM_KEYS in cmake/Blender2oglBake.cmake";
+  // and every listed key is read: a scene baking it changes the options
+  for (const std::string& key : scene_param_keys()) {
+    const b2o::Param p[] = {{key.c_str(), 12345.0}};
+    b2o::Scene s = tiny();
+    s.param_count = 1;
+    s.params = p;
+    std::vector<std::string> unknown;
+    const Options o = scene_options(s, Options{}, &unknown);
+    EXPECT_TRUE(unknown.empty()) << key;
+    EXPECT_TRUE(o.dt == 12345.0 || o.mass == 12345.0 || o.k_struct == 12345.0 || o.k_bend == 12345.0 ||
+                o.damping == 12345.0 || o.gravity.x() == 12345.0 || o.gravity.y() == 12345.0 ||
+                o.gravity.z() == 12345.0 || o.epsilon == 12345.0 || o.k_rep == 12345.0)
+        << key;
+  }
 }
 
 TEST(SceneAdapter, ClothBecomesMassesSpringsPinsAndTheRestColliders) {

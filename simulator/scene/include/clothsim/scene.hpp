@@ -12,7 +12,9 @@ namespace clothsim {
 
 /// The Scene::params keys a scene may bake to override Options (the command line
 /// overrides both): dt, mass, k_struct, k_bend, damping, gravity_x, gravity_y, gravity_z,
-/// epsilon, k_rep.
+/// epsilon, k_rep. blender2ogl_add_scene() accepts exactly these as PARAMS keys (the list
+/// BLENDER2OGL_PARAM_KEYS in cmake/Blender2oglBake.cmake; SceneAdapter.ParamKeysAreTheCMakeList
+/// checks the two agree): add a key in both places.
 const std::vector<std::string>& scene_param_keys();
 
 /// `base` with the scene's baked params applied. Keys that are not option names are

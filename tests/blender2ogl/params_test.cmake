@@ -1,0 +1,29 @@
+# Driven by ctest (blender2ogl.params_keys): blender2ogl_add_scene() refuses PARAMS keys the
+# simulator does not read, at configure time, naming the scene and the key, with a hint for
+# the command line's hyphenated spelling. Each case runs the function in a child cmake -P.
+cmake_minimum_required(VERSION 3.25)
+if(NOT DEFINED MODULE OR NOT DEFINED WORK)
+  message(FATAL_ERROR "params_test.cmake: -DMODULE= and -DWORK= needed")
+endif()
+file(MAKE_DIRECTORY "${WORK}")
+
+function(expect params want)
+  file(WRITE "${WORK}/case.cmake"
+       "include(\"${MODULE}\")\nblender2ogl_add_scene(flag OBJ \"${WORK}/absent.obj\" PARAMS ${params})\n")
+  execute_process(COMMAND ${CMAKE_COMMAND} -P "${WORK}/case.cmake" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(REGEX REPLACE "[ \t\r\n]+" " " text "${out}${err}")  # (CMake wraps long messages)
+  if(rc EQUAL 0 OR NOT text MATCHES "${want}")
+    message(FATAL_ERROR "PARAMS ${params}: expected a failure matching '${want}' (${rc}):\n${out}${err}")
+  endif()
+endfunction()
+
+# misspelled keys: the scene, each key, a hint, the valid keys
+expect("mas=0.01 k-struct=2000" "blender2ogl_add_scene\\(flag\\): bad PARAMS: 'mas' is not a scene parameter \\(did you mean mass\\?\\) 'k-struct' is not a scene parameter \\(did you mean k_struct\\?\\)")
+expect("mas=0.01" "Valid keys \\(underscores, as the simulator reads them\\): dt, mass, k_struct, k_bend, damping, gravity_x, gravity_y, gravity_z, epsilon, k_rep")
+expect("gravity=-9.81" "'gravity' is not a scene parameter \\(did you mean gravity_x or gravity_y or gravity_z\\?\\)")
+expect("K_BEND=1" "'K_BEND' is not a scene parameter \\(did you mean k_bend\\?\\)")
+expect("camera=5" "'camera' is not a scene parameter; |'camera' is not a scene parameter Valid")
+expect("dt" "'dt': expected KEY=VALUE")
+# every valid key passes the check (the configure then stops at the missing model file)
+expect("dt=0.001 mass=0.01 k_struct=1 k_bend=1 damping=0.1 gravity_x=0 gravity_y=-9.81 gravity_z=0 epsilon=0.01 k_rep=10"
+       "blender2ogl_add_scene\\(flag\\): .*absent.obj: no such model file")
