@@ -115,11 +115,6 @@ TEST(Cli, ObjectNamesWithSpacesSelectAndPin) {
   EXPECT_NE(bad.output.find("'My Cloth', 'My Floor'"), std::string::npos) << bad.output;
 }
 
-}  // namespace
-
-namespace {
-
-using namespace b2o::test;
 
 // assimp 5.2.5 crashes on a .mtl statement before the first newmtl: refused with file:line.
 TEST(Cli, MtlProblemsAreRefusedWithTheirFileAndLine) {
@@ -226,11 +221,6 @@ TEST(Cli, FolderInAnOutputsPlaceChangesNothing) {
   EXPECT_EQ(snapshot(dir), before);
 }
 
-}  // namespace
-
-namespace {
-
-using namespace b2o::test;
 
 const char* kTriangle = "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
 const char* kTriangle2 = "o Cloth\nv 0 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\n";
@@ -289,11 +279,6 @@ TEST(Cli, CharacterDeviceOutputIsWrittenIntoNotReplaced) {
   fs::remove(dir / "out" / "m.S");
 }
 
-}  // namespace
-
-namespace {
-
-using namespace b2o::test;
 
 // An output that is one of the inputs (the model, its .mtl, a texture), by name or through a
 // link, is refused before anything is written.
@@ -331,11 +316,6 @@ TEST(Cli, OutputsNeverOverwriteInputs) {
   EXPECT_EQ(read_file(dir / "m.h"), mtl);
 }
 
-}  // namespace
-
-namespace {
-
-using namespace b2o::test;
 
 std::string three_objects(const char* first, const char* second, const char* third) {
   return std::string(first) + " A\nv 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n" + second +
@@ -399,11 +379,6 @@ TEST(Cli, RepeatedObjectNamesNeverMoveGeometry) {
   EXPECT_EQ(sb.cloths[0].rest_positions[0], 5.0f);
 }
 
-}  // namespace
-
-namespace {
-
-using namespace b2o::test;
 
 // Text that passed the pre-scan and then failed in assimp without a line (or blaming the .obj
 // for its .mtl) is refused by the pre-scan with file:line; a trailing comment on a v/f line is
@@ -448,11 +423,6 @@ TEST(Cli, StatementsAssimpMisreadsAreRefusedWithTheirLine) {
   EXPECT_EQ(s.positions[3], 1.0f);
 }
 
-}  // namespace
-
-namespace {
-
-using namespace b2o::test;
 
 // `usemtl` naming a material no library defines (or with no mtllib at all) gets assimp's
 // invented grey material: a warning at its line, exit 0.
@@ -493,11 +463,6 @@ TEST(Cli, MtlGreyColorAndRepeatedMaterial) {
       << s.warnings[0];
 }
 
-}  // namespace
-
-namespace {
-
-using namespace b2o::test;
 
 // A cloth whose triangles are all degenerate (a repeated vertex, collinear points) would get
 // no springs: an error naming the object and the file, nothing written.
@@ -517,11 +482,6 @@ TEST(Cli, ClothWithoutUsableTriangleIsRefused) {
   }
 }
 
-}  // namespace
-
-namespace {
-
-using namespace b2o::test;
 
 // Formats without the pre-scan: assimp's OFF importer clamps a face index out of range to the
 // last vertex (an error in its log, a wrong triangle): refused. Its other logged errors are

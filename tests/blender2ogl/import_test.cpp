@@ -177,11 +177,6 @@ TEST(Identifiers, OddNamesGiveValidDistinctStableIdentifiers) {
   EXPECT_EQ(b2o::conv::clean_identifier("\xC3\xBC"), "unnamed");
 }
 
-}  // namespace
-
-namespace {
-
-using namespace b2o::test;
 
 TEST(Import, TextureNextToAMtlInASubfolder) {
   const auto dir = scratch("import_subfolder");
@@ -195,11 +190,6 @@ TEST(Import, TextureNextToAMtlInASubfolder) {
   EXPECT_TRUE(s.warnings.empty());
 }
 
-}  // namespace
-
-namespace {
-
-using namespace b2o::test;
 
 // A UTF-8 byte-order mark at the start of the .obj or the .mtl is no part of the first
 // statement: `o Cloth` keeps its name, `mtllib` its materials, `newmtl` its material
@@ -221,11 +211,6 @@ TEST(Import, Utf8ByteOrderMarkInObjAndMtl) {
   EXPECT_EQ(s.submeshes[0].material, 0);
 }
 
-}  // namespace
-
-namespace {
-
-using namespace b2o::test;
 
 // No zero or non-finite normal reaches the scene: a face without `vn` among faces with, a
 // `vn 0 0 0`, and a degenerate face get normals from their faces (a warning), (0, 0, 1) when
