@@ -350,6 +350,26 @@ TEST(Cli, UnstableIntegratorMessageTellsTheTruthAboutDamping) {
   EXPECT_EQ(lines(light.output), 1) << light.output;
 }
 
+// dice: dt_stable 0.01255 s, safe step 0.9 x that = 0.0113 s. dt 0.012 is below dt_stable but
+// above the safe step: auto takes 2 substeps and says so truthfully; off refuses (it used to
+// run while the note claimed "exceeds dt_stable ... --substeps off to refuse instead").
+TEST(Cli, SubstepNoteAndOffAgree) {
+  const Result a = run("--headless --steps 3 --dt 0.012");
+  EXPECT_EQ(a.code, 0) << a.output;
+  EXPECT_EQ(a.output.find("exceeds"), std::string::npos) << a.output;
+  EXPECT_NE(a.output.find("dt 0.012 s is above the safe step 0.01"), std::string::npos) << a.output;
+  EXPECT_NE(a.output.find(" s (0.9 x dt_stable 0.01255 s): taking 2 substeps"), std::string::npos) << a.output;
+  const Result off = run("--headless --quiet --steps 3 --dt 0.012 --substeps off");
+  EXPECT_EQ(off.code, 2) << off.output;
+  EXPECT_NE(off.output.find("above the safe step"), std::string::npos) << off.output;
+  EXPECT_NE(off.output.find("--substeps 2"), std::string::npos) << off.output;
+  EXPECT_EQ(lines(off.output), 1) << off.output;
+  // below the safe step: no note, and off runs
+  const Result below = run("--headless --steps 3 --dt 0.011 --substeps off");
+  EXPECT_EQ(below.code, 0) << below.output;
+  EXPECT_EQ(below.output.find("note"), std::string::npos) << below.output;
+}
+
 TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {
   const fs::path d = fresh_dir("blowup");
   // --substeps 1: take the step as asked (the default, auto, would substep under the limit)

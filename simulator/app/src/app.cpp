@@ -193,8 +193,9 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   app.add_option("--integrator", integrator_name,
                  "Time integrator: " + integrator_names() + " (default: the seed's symplectic-euler)");
   app.add_option("--substeps", substeps_text,
-                 "auto: substep to stay under the stability limit (default); off: refuse a dt above it; "
-                 "N: N substeps per step, as asked");
+                 "auto: substep to stay at or below the safe step, 0.9 x the stability limit dt_stable "
+                 "(default); off: refuse a dt above the safe step (exactly when auto would substep); "
+                 "N: N substeps per step, as asked (a warning above the safe step)");
   auto* o_screenshot = app.add_option("--screenshot", screenshot, "Viewer: render at --seconds, write this PNG and exit");
   auto* o_frames = app.add_option("--frames", frames, "Viewer: write a PNG sequence into this directory up to --seconds");
   app.add_option("--fps", fps, "Viewer: frames per simulated second for --frames (default 30)")->check(CLI::PositiveNumber);
