@@ -370,6 +370,28 @@ TEST(Cli, SubstepNoteAndOffAgree) {
   EXPECT_EQ(below.output.find("note"), std::string::npos) << below.output;
 }
 
+// Steps are the user's steps of dt everywhere: the console, the report and the OBJ file
+// numbers (they used to count substeps: "6 steps", drape_000600.obj at t = 3 s); the substeps
+// are reported separately.
+TEST(Cli, StepsCountStepsOfDtWhenSubstepping) {
+  const fs::path d = fresh_dir("substep_counts");
+  const Result r = run("--headless --steps 20 --dt 0.012 --export-every 5 --export-obj " + q(d / "frames") +
+                       " --report " + q(d / "r.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("dice: 20 steps of 0.012 s (2 substeps of 0.006 s each)"), std::string::npos) << r.output;
+  const auto j = read_json(d / "r.json");
+  EXPECT_EQ(j["steps"], 20);
+  EXPECT_EQ(j["substeps"], 2);
+  EXPECT_DOUBLE_EQ(j["substep_dt"].get<double>(), 0.006);
+  EXPECT_NEAR(j["seconds_simulated"].get<double>(), 20 * 0.012, 1e-9);
+  EXPECT_EQ(entries(d / "frames"), 5);  // steps 0, 5, 10, 15, 20
+  for (const char* f : {"dice_000000.obj", "dice_000005.obj", "dice_000020.obj"})
+    EXPECT_TRUE(fs::exists(d / "frames" / f)) << f;
+  EXPECT_FALSE(fs::exists(d / "frames" / "dice_000040.obj"));
+  EXPECT_NE(slurp(d / "frames" / "dice_000020.obj").find("t = 0.24 s, step 20 of dt 0.012 s"), std::string::npos)
+      << slurp(d / "frames" / "dice_000020.obj").substr(0, 100);
+}
+
 TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {
   const fs::path d = fresh_dir("blowup");
   // --substeps 1: take the step as asked (the default, auto, would substep under the limit)
