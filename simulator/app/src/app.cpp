@@ -1,5 +1,6 @@
 #include "app.hpp"
 
+#include <clothsim/closed_mesh.hpp>
 #include <clothsim/integrators.hpp>
 #include <clothsim/output_file.hpp>
 #include <clothsim/scene.hpp>
@@ -350,7 +351,12 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     std::cerr << "clothsim: " << describe(stab, opts.integrator) << "\n";
     if (!plan.message.empty()) std::cerr << "clothsim: note: " << plan.message << "\n";
   }
-  if (tunnel.warn) std::cerr << "clothsim: " << tunnel.message << "\n";
+  // Every start-up warning, printed (also with --quiet) and listed in the report: tunnelling,
+  // a closed collider whose faces point inwards, cloth masses that start inside a collider.
+  std::vector<std::string> warnings;
+  if (tunnel.warn) warnings.push_back(tunnel.message);
+  for (std::string& w : collider_warnings(model)) warnings.push_back(std::move(w));
+  for (const std::string& w : warnings) std::cerr << "clothsim: " << w << "\n";
 
 
 #ifdef CLOTHSIM_HAVE_VIEWER
@@ -458,6 +464,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     r["omega_max"] = num(stab.omega_max);
     r["integrator"] = to_string(opts.integrator);
     r["tunnelling_warning"] = tunnel.warn;
+    r["warnings"] = warnings;
     r["seconds_simulated"] = state.t;
     r["ms_per_step"] = ms_per_step;
     r["cpu_ms_per_step"] = timed ? cpu_ms / static_cast<double>(timed) : 0.0;  // includes --export-obj
