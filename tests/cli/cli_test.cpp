@@ -245,6 +245,48 @@ TEST(Cli, ReportHasTheKeys) {
   EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator{}), 1);
 }
 
+// docs/scenes.md documents every field the report has (it used to omit dt_stable, omega_max,
+// substeps, integrator and tunnelling_warning), the options' fields too.
+TEST(Cli, EveryReportFieldIsDocumented) {
+  const fs::path d = fresh_dir("report_doc");
+  // a blow-up, so that failed_step is there too
+  const Result r = run("--headless --quiet --dt 0.5 --substeps 1 --seconds 1000 --report " + q(d / "r.json"));
+  ASSERT_EQ(r.code, 1) << r.output;
+  const auto j = read_json(d / "r.json");
+  const std::string doc = slurp(CLOTHSIM_SCENES_DOC);
+  const std::string report_section = doc.substr(doc.find("**The report**"));
+  ASSERT_GT(report_section.size(), 100u);
+  for (const auto& [k, v] : j.items())
+    EXPECT_NE(report_section.find("`" + k + "`"), std::string::npos) << "undocumented report field " << k;
+  for (const auto& [k, v] : j["options"].items())
+    EXPECT_NE(report_section.find("`" + k + "`"), std::string::npos) << "undocumented option field " << k;
+  // max_penetration is not read as a depth: the docs say what it is
+  EXPECT_NE(report_section.find("behind a surface, as far as the search reaches (2 eps)"), std::string::npos);
+  EXPECT_NE(report_section.find("before the run"), std::string::npos);  // tunnelling_warning is an estimate
+}
+
+// A die that falls through its plane (k_rep almost 0): max_penetration is what the search saw,
+// at most 2 eps; the report and the summary say so instead of passing it off as a depth.
+TEST(Cli, MaxPenetrationPastTheBandIsLabelled) {
+  const fs::path d = fresh_dir("penetration");
+  const Result r = run("--headless --steps 300 --k-rep 0.001 --report " + q(d / "r.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto j = read_json(d / "r.json");
+  EXPECT_DOUBLE_EQ(j["max_penetration_reach"].get<double>(), 0.2);
+  EXPECT_GT(j["max_penetration"].get<double>(), 0.1);
+  EXPECT_LE(j["max_penetration"].get<double>(), 0.2);
+  EXPECT_EQ(j["max_penetration_past_eps"], true);
+  EXPECT_NE(r.output.find("(behind a surface, as far as the search reaches: 2 eps = 0.2 m; past eps the contact "
+                          "lets go, masses may be deeper or through)"),
+            std::string::npos)
+      << r.output;
+  // the baked dice for 0.5 s (falling, nothing behind the plane): no label
+  const Result rest = run("--headless --steps 50 --report " + q(d / "r2.json"));
+  ASSERT_EQ(rest.code, 0) << rest.output;
+  EXPECT_EQ(read_json(d / "r2.json")["max_penetration_past_eps"], false);
+  EXPECT_EQ(rest.output.find("search reaches"), std::string::npos) << rest.output;
+}
+
 TEST(Cli, SeedAliasesAndPhysicalOptionsReachTheReport) {
   const fs::path d = fresh_dir("alias");
   const Result r = run("--headless --quiet --steps 10 -step 0.005 -mass 0.2 -stiff 300 -wstiff 40 -damp 0.3 "

@@ -441,6 +441,12 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   const double ke = kinetic_energy(model, state);
   auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
 
+  // The collision search reaches 2 eps behind a surface: a mass deeper than that is not seen,
+  // so max_penetration is at most 2 eps and is no depth. Past eps the contact lets go (no
+  // force): a mass seen there may have gone deeper, or through.
+  const double reach = 2.0 * opts.epsilon;
+  const bool past_eps = state.max_penetration > opts.epsilon;
+
   if (!finite)
     std::cerr << "clothsim: error: the state became non-finite at step " << failed_step << " (t = " << state.t
               << " s). Likely cause: the step h = " << plan.h << " s"
@@ -472,7 +478,9 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     if (!finite) r["failed_step"] = failed_step;
     r["cloth_min"] = {num(lo.x()), num(lo.y()), num(lo.z())};
     r["cloth_max"] = {num(hi.x()), num(hi.y()), num(hi.z())};
-    r["max_penetration"] = num(state.max_penetration);
+    r["max_penetration"] = num(state.max_penetration);  // behind a surface, within the search's reach
+    r["max_penetration_reach"] = reach;                  // 2 eps: deeper is not seen
+    r["max_penetration_past_eps"] = past_eps;            // true: masses may be deeper or through
     r["kinetic_energy"] = num(ke);
     r["stable_dt_estimate"] = num(stable_dt);
     r["options"] = options_json(opts);
@@ -486,8 +494,11 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     std::cout << model.scene_name << ": " << done << " steps of " << opts.dt << " s";
     if (plan.substeps > 1) std::cout << " (" << plan.substeps << " substeps of " << plan.h << " s each)";
     std::cout << ", " << state.t << " s simulated, "
-              << ms_per_step << " ms/step, max penetration " << state.max_penetration << " m, kinetic energy "
-              << ke << " J, cloth y " << lo.y() << " .. " << hi.y() << "\n";
+              << ms_per_step << " ms/step, max penetration " << state.max_penetration << " m"
+              << (past_eps ? " (behind a surface, as far as the search reaches: 2 eps = " + fmt(reach) +
+                                 " m; past eps the contact lets go, masses may be deeper or through)"
+                           : std::string())
+              << ", kinetic energy " << ke << " J, cloth y " << lo.y() << " .. " << hi.y() << "\n";
   }
   return 0;
 }
