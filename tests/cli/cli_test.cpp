@@ -227,8 +227,10 @@ TEST(Cli, ReportHasTheKeys) {
   const auto j = read_json(d / "r.json");
   for (const char* k : {"scene", "masses", "springs", "collider_triangles", "dt", "steps", "seconds_simulated",
                         "ms_per_step", "finite", "cloth_min", "cloth_max", "max_penetration", "kinetic_energy",
-                        "options"})
+                        "options", "warnings"})
     EXPECT_TRUE(j.contains(k)) << k;
+  // the dice's plane is an open mesh: no collider warnings (closed_mesh_test has the others)
+  EXPECT_TRUE(j["warnings"].is_array() && j["warnings"].empty()) << j["warnings"];
   EXPECT_EQ(j["scene"], "dice");
   EXPECT_EQ(j["masses"], 16);
   EXPECT_EQ(j["collider_triangles"], 2);
@@ -241,6 +243,48 @@ TEST(Cli, ReportHasTheKeys) {
   EXPECT_GE(j["ms_per_step"].get<double>(), 0.0);
   // nothing but the report in the folder (the temp file was renamed)
   EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator{}), 1);
+}
+
+// docs/scenes.md documents every field the report has (it used to omit dt_stable, omega_max,
+// substeps, integrator and tunnelling_warning), the options' fields too.
+TEST(Cli, EveryReportFieldIsDocumented) {
+  const fs::path d = fresh_dir("report_doc");
+  // a blow-up, so that failed_step is there too
+  const Result r = run("--headless --quiet --dt 0.5 --substeps 1 --seconds 1000 --report " + q(d / "r.json"));
+  ASSERT_EQ(r.code, 1) << r.output;
+  const auto j = read_json(d / "r.json");
+  const std::string doc = slurp(CLOTHSIM_SCENES_DOC);
+  const std::string report_section = doc.substr(doc.find("**The report**"));
+  ASSERT_GT(report_section.size(), 100u);
+  for (const auto& [k, v] : j.items())
+    EXPECT_NE(report_section.find("`" + k + "`"), std::string::npos) << "undocumented report field " << k;
+  for (const auto& [k, v] : j["options"].items())
+    EXPECT_NE(report_section.find("`" + k + "`"), std::string::npos) << "undocumented option field " << k;
+  // max_penetration is not read as a depth: the docs say what it is
+  EXPECT_NE(report_section.find("behind a surface, as far as the search reaches (2 eps)"), std::string::npos);
+  EXPECT_NE(report_section.find("before the run"), std::string::npos);  // tunnelling_warning is an estimate
+}
+
+// A die that falls through its plane (k_rep almost 0): max_penetration is what the search saw,
+// at most 2 eps; the report and the summary say so instead of passing it off as a depth.
+TEST(Cli, MaxPenetrationPastTheBandIsLabelled) {
+  const fs::path d = fresh_dir("penetration");
+  const Result r = run("--headless --steps 300 --k-rep 0.001 --report " + q(d / "r.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto j = read_json(d / "r.json");
+  EXPECT_DOUBLE_EQ(j["max_penetration_reach"].get<double>(), 0.2);
+  EXPECT_GT(j["max_penetration"].get<double>(), 0.1);
+  EXPECT_LE(j["max_penetration"].get<double>(), 0.2);
+  EXPECT_EQ(j["max_penetration_past_eps"], true);
+  EXPECT_NE(r.output.find("(behind a surface, as far as the search reaches: 2 eps = 0.2 m; past eps the contact "
+                          "lets go, masses may be deeper or through)"),
+            std::string::npos)
+      << r.output;
+  // the baked dice for 0.5 s (falling, nothing behind the plane): no label
+  const Result rest = run("--headless --steps 50 --report " + q(d / "r2.json"));
+  ASSERT_EQ(rest.code, 0) << rest.output;
+  EXPECT_EQ(read_json(d / "r2.json")["max_penetration_past_eps"], false);
+  EXPECT_EQ(rest.output.find("search reaches"), std::string::npos) << rest.output;
 }
 
 TEST(Cli, SeedAliasesAndPhysicalOptionsReachTheReport) {
@@ -348,6 +392,48 @@ TEST(Cli, UnstableIntegratorMessageTellsTheTruthAboutDamping) {
   EXPECT_EQ(light.code, 2) << light.output;
   EXPECT_NE(light.output.find("too light"), std::string::npos) << light.output;
   EXPECT_EQ(lines(light.output), 1) << light.output;
+}
+
+// dice: dt_stable 0.01255 s, safe step 0.9 x that = 0.0113 s. dt 0.012 is below dt_stable but
+// above the safe step: auto takes 2 substeps and says so truthfully; off refuses (it used to
+// run while the note claimed "exceeds dt_stable ... --substeps off to refuse instead").
+TEST(Cli, SubstepNoteAndOffAgree) {
+  const Result a = run("--headless --steps 3 --dt 0.012");
+  EXPECT_EQ(a.code, 0) << a.output;
+  EXPECT_EQ(a.output.find("exceeds"), std::string::npos) << a.output;
+  EXPECT_NE(a.output.find("dt 0.012 s is above the safe step 0.01"), std::string::npos) << a.output;
+  EXPECT_NE(a.output.find(" s (0.9 x dt_stable 0.01255 s): taking 2 substeps"), std::string::npos) << a.output;
+  const Result off = run("--headless --quiet --steps 3 --dt 0.012 --substeps off");
+  EXPECT_EQ(off.code, 2) << off.output;
+  EXPECT_NE(off.output.find("above the safe step"), std::string::npos) << off.output;
+  EXPECT_NE(off.output.find("--substeps 2"), std::string::npos) << off.output;
+  EXPECT_EQ(lines(off.output), 1) << off.output;
+  // below the safe step: no note, and off runs
+  const Result below = run("--headless --steps 3 --dt 0.011 --substeps off");
+  EXPECT_EQ(below.code, 0) << below.output;
+  EXPECT_EQ(below.output.find("note"), std::string::npos) << below.output;
+}
+
+// Steps are the user's steps of dt everywhere: the console, the report and the OBJ file
+// numbers (they used to count substeps: "6 steps", drape_000600.obj at t = 3 s); the substeps
+// are reported separately.
+TEST(Cli, StepsCountStepsOfDtWhenSubstepping) {
+  const fs::path d = fresh_dir("substep_counts");
+  const Result r = run("--headless --steps 20 --dt 0.012 --export-every 5 --export-obj " + q(d / "frames") +
+                       " --report " + q(d / "r.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("dice: 20 steps of 0.012 s (2 substeps of 0.006 s each)"), std::string::npos) << r.output;
+  const auto j = read_json(d / "r.json");
+  EXPECT_EQ(j["steps"], 20);
+  EXPECT_EQ(j["substeps"], 2);
+  EXPECT_DOUBLE_EQ(j["substep_dt"].get<double>(), 0.006);
+  EXPECT_NEAR(j["seconds_simulated"].get<double>(), 20 * 0.012, 1e-9);
+  EXPECT_EQ(entries(d / "frames"), 5);  // steps 0, 5, 10, 15, 20
+  for (const char* f : {"dice_000000.obj", "dice_000005.obj", "dice_000020.obj"})
+    EXPECT_TRUE(fs::exists(d / "frames" / f)) << f;
+  EXPECT_FALSE(fs::exists(d / "frames" / "dice_000040.obj"));
+  EXPECT_NE(slurp(d / "frames" / "dice_000020.obj").find("t = 0.24 s, step 20 of dt 0.012 s"), std::string::npos)
+      << slurp(d / "frames" / "dice_000020.obj").substr(0, 100);
 }
 
 TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {

@@ -147,6 +147,38 @@ TEST(HardCase02, ThreeTimesTheLimitIsSubsteppedOrRefused) {
   EXPECT_THROW(parse_substeps("0"), std::invalid_argument);
 }
 
+// Between the safe step (0.9 dt_stable) and dt_stable: auto substeps and says dt is above the
+// safe step (not "exceeds dt_stable", which is false); off refuses exactly when auto would
+// substep; a fixed count there warns. Below the safe step all three take dt as it is.
+TEST(HardCase02, OffRefusesExactlyWhenAutoSubsteps) {
+  const double dt_stable = 0.01072;
+  const SubstepPolicy autop = parse_substeps("auto"), off = parse_substeps("off"), one = parse_substeps("1");
+  const SubstepPlan a = plan_substeps(0.01, dt_stable, autop);
+  ASSERT_TRUE(a.ok);
+  EXPECT_EQ(a.substeps, 2);
+  EXPECT_EQ(a.message.find("exceeds"), std::string::npos) << a.message;
+  EXPECT_NE(a.message.find("above the safe step 0.009648 s (0.9 x dt_stable 0.01072 s)"), std::string::npos)
+      << a.message;
+  const SubstepPlan o = plan_substeps(0.01, dt_stable, off);
+  EXPECT_FALSE(o.ok) << "off must refuse where auto substeps: " << o.message;
+  EXPECT_NE(o.message.find("safe step 0.009648 s"), std::string::npos) << o.message;
+  EXPECT_NE(o.message.find("--substeps 2"), std::string::npos) << o.message;
+  const SubstepPlan f = plan_substeps(0.01, dt_stable, one);
+  EXPECT_TRUE(f.ok);
+  EXPECT_NE(f.message.find("warning"), std::string::npos) << f.message;
+  EXPECT_NE(f.message.find("may blow up"), std::string::npos) << f.message;
+  // the boundary: off agrees with auto on a sweep of dt across the safe step
+  for (double x = 0.85; x <= 1.05; x += 0.001) {
+    const double dt = x * dt_stable;
+    const SubstepPlan pa = plan_substeps(dt, dt_stable, autop), po = plan_substeps(dt, dt_stable, off);
+    EXPECT_EQ(pa.substeps > 1, !po.ok) << "dt " << dt;
+    EXPECT_EQ(pa.message.empty(), po.message.empty()) << "dt " << dt;
+  }
+  // the exact safe step itself is safe
+  EXPECT_TRUE(plan_substeps(0.9 * dt_stable, dt_stable, off).ok);
+  EXPECT_EQ(plan_substeps(0.9 * dt_stable, dt_stable, autop).substeps, 1);
+}
+
 // --- 3: a hanging chain with a 1000:1 mass ratio settles to the exact statics ------------
 
 TEST(HardCase03, ChainWithMassRatio1000StaticRestExact) {

@@ -1,5 +1,6 @@
 #include "app.hpp"
 
+#include <clothsim/closed_mesh.hpp>
 #include <clothsim/integrators.hpp>
 #include <clothsim/output_file.hpp>
 #include <clothsim/scene.hpp>
@@ -103,14 +104,15 @@ json options_json(const Options& o) {
               {"integrator", to_string(o.integrator)}};
 }
 
-// One OBJ file <dir>/<scene>_<step>.obj by the output rule (clothsim/output_file.hpp).
-// Returns empty or the error.
-std::string export_obj(const fs::path& dir, const b2o::Scene& scene, const Model& model, const State& s) {
+// One OBJ file <dir>/<scene>_<step>.obj by the output rule (clothsim/output_file.hpp);
+// `step` counts the user's steps of `dt` (not substeps). Returns empty or the error.
+std::string export_obj(const fs::path& dir, const b2o::Scene& scene, const Model& model, const State& s,
+                       std::uint64_t step, double dt) {
   char name[64];
   std::snprintf(name, sizeof name, "%s_%06llu.obj", model.scene_name.c_str(),
-                static_cast<unsigned long long>(s.steps));
+                static_cast<unsigned long long>(step));
   std::ostringstream out;
-  out << "# clothsim " << CLOTHSIM_VERSION << ", t = " << s.t << " s, step " << s.steps << "\n";
+  out << "# clothsim " << CLOTHSIM_VERSION << ", t = " << s.t << " s, step " << step << " of dt " << dt << " s\n";
   std::size_t base = 1;  // OBJ indices are 1-based and file-global
   for (const ClothRange& r : model.cloths) {
     const b2o::Cloth* cloth = r.scene_cloth >= 0 ? &scene.cloths[r.scene_cloth] : nullptr;
@@ -183,7 +185,8 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   auto* o_krep = app.add_option("--k-rep", k_rep, "Penalty stiffness k_rep of eq. 12, N/m");
   auto* o_report = app.add_option("--report", report, "Write a JSON report of the run to this file");
   auto* o_export = app.add_option("--export-obj", export_dir, "Write the cloth meshes as OBJ files into this directory");
-  app.add_option("--export-every", export_every_text, "With --export-obj: every K steps (default 10)");
+  app.add_option("--export-every", export_every_text,
+                 "With --export-obj: every K steps of --dt (substeps not counted; default 10)");
   app.add_flag("--quiet", quiet, "No progress bar and no summary");
   int threads = 1;  // issue 6: results are bit-identical for every count
   app.add_option("--threads", threads, "Threads for the force loops (default 1; 0: all cores); same results for any count")
@@ -193,8 +196,9 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   app.add_option("--integrator", integrator_name,
                  "Time integrator: " + integrator_names() + " (default: the seed's symplectic-euler)");
   app.add_option("--substeps", substeps_text,
-                 "auto: substep to stay under the stability limit (default); off: refuse a dt above it; "
-                 "N: N substeps per step, as asked");
+                 "auto: substep to stay at or below the safe step, 0.9 x the stability limit dt_stable "
+                 "(default); off: refuse a dt above the safe step (exactly when auto would substep); "
+                 "N: N substeps per step, as asked (a warning above the safe step)");
   auto* o_screenshot = app.add_option("--screenshot", screenshot, "Viewer: render at --seconds, write this PNG and exit");
   auto* o_frames = app.add_option("--frames", frames, "Viewer: write a PNG sequence into this directory up to --seconds");
   app.add_option("--fps", fps, "Viewer: frames per simulated second for --frames (default 30)")->check(CLI::PositiveNumber);
@@ -347,7 +351,12 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     std::cerr << "clothsim: " << describe(stab, opts.integrator) << "\n";
     if (!plan.message.empty()) std::cerr << "clothsim: note: " << plan.message << "\n";
   }
-  if (tunnel.warn) std::cerr << "clothsim: " << tunnel.message << "\n";
+  // Every start-up warning, printed (also with --quiet) and listed in the report: tunnelling,
+  // a closed collider whose faces point inwards, cloth masses that start inside a collider.
+  std::vector<std::string> warnings;
+  if (tunnel.warn) warnings.push_back(tunnel.message);
+  for (std::string& w : collider_warnings(model)) warnings.push_back(std::move(w));
+  for (const std::string& w : warnings) std::cerr << "clothsim: " << w << "\n";
 
 
 #ifdef CLOTHSIM_HAVE_VIEWER
@@ -389,9 +398,11 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   const double stable_dt = omega > 0 ? 2.0 / omega : std::numeric_limits<double>::infinity();
   bool finite = true;
   std::chrono::steady_clock::duration step_time{};
-  std::uint64_t failed_step = 0;
+  std::uint64_t failed_step = 0;  // the step of dt (1-based) in which the state became non-finite
+  std::uint64_t done = 0;         // steps of dt completed (each of plan.substeps substeps)
+  std::uint64_t timed = 0;        // steps of dt timed (the failed one included)
   if (o_export->count())
-    if (const std::string err = export_obj(export_path, scene, model, state); !err.empty()) {
+    if (const std::string err = export_obj(export_path, scene, model, state, 0, opts.dt); !err.empty()) {
       std::cerr << "clothsim: error: --export-obj: " << err << "\n";
       return kExitFailed;
     }
@@ -401,13 +412,15 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     StepStatus st;
     for (int k = 0; k < plan.substeps && st.finite; ++k) st = step(model, state, ws);
     step_time += std::chrono::steady_clock::now() - t0;
+    ++timed;
     if (!st.finite) {
       finite = false;
-      failed_step = state.steps;
+      failed_step = i + 1;
       break;
     }
-    if (o_export->count() && (i + 1) % export_every == 0)
-      if (const std::string err = export_obj(export_path, scene, model, state); !err.empty()) {
+    done = i + 1;
+    if (o_export->count() && done % export_every == 0)
+      if (const std::string err = export_obj(export_path, scene, model, state, done, opts.dt); !err.empty()) {
         progress.finish();
         std::cerr << "clothsim: error: --export-obj: " << err << "\n";
         return kExitFailed;
@@ -417,8 +430,9 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   progress.finish();
   const double cpu_ms = 1000.0 * static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
 
+  // per step of dt, all its substeps included
   const double ms_per_step =
-      state.steps ? std::chrono::duration<double, std::milli>(step_time).count() / static_cast<double>(state.steps) : 0.0;
+      timed ? std::chrono::duration<double, std::milli>(step_time).count() / static_cast<double>(timed) : 0.0;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()), hi = lo;
   if (model.mass_count() > 0) {
     lo = state.x.rowwise().minCoeff();
@@ -427,9 +441,17 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   const double ke = kinetic_energy(model, state);
   auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
 
+  // The collision search reaches 2 eps behind a surface: a mass deeper than that is not seen,
+  // so max_penetration is at most 2 eps and is no depth. Past eps the contact lets go (no
+  // force): a mass seen there may have gone deeper, or through.
+  const double reach = 2.0 * opts.epsilon;
+  const bool past_eps = state.max_penetration > opts.epsilon;
+
   if (!finite)
     std::cerr << "clothsim: error: the state became non-finite at step " << failed_step << " (t = " << state.t
-              << " s). Likely cause: dt = " << opts.dt << " s is above the stability limit; the Gershgorin "
+              << " s). Likely cause: the step h = " << plan.h << " s"
+              << (plan.substeps > 1 ? " (dt / " + std::to_string(plan.substeps) + " substeps)" : std::string())
+              << " is above the stability limit; the Gershgorin "
               << "estimate 2/omega_max is " << stable_dt << " s (lower --dt, or soften --k-struct/--k-rep)\n";
 
   if (o_report->count()) {
@@ -441,20 +463,24 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     r["bend_springs"] = std::count(model.spring_kind.begin(), model.spring_kind.end(), std::uint8_t{1});
     r["collider_triangles"] = collider_triangle_count(model);
     r["dt"] = opts.dt;
-    r["steps"] = state.steps / static_cast<std::uint64_t>(plan.substeps);  // steps of dt
-    r["substeps"] = plan.substeps;
+    r["steps"] = done;  // steps of dt completed
+    r["substeps"] = plan.substeps;  // per step of dt
+    r["substep_dt"] = plan.h;       // dt / substeps
     r["dt_stable"] = num(stab.dt_stable);  // the guard's limit for this integrator
     r["omega_max"] = num(stab.omega_max);
     r["integrator"] = to_string(opts.integrator);
     r["tunnelling_warning"] = tunnel.warn;
+    r["warnings"] = warnings;
     r["seconds_simulated"] = state.t;
     r["ms_per_step"] = ms_per_step;
-    r["cpu_ms_per_step"] = state.steps ? cpu_ms / static_cast<double>(state.steps) : 0.0;  // includes --export-obj
+    r["cpu_ms_per_step"] = timed ? cpu_ms / static_cast<double>(timed) : 0.0;  // includes --export-obj
     r["finite"] = finite;
     if (!finite) r["failed_step"] = failed_step;
     r["cloth_min"] = {num(lo.x()), num(lo.y()), num(lo.z())};
     r["cloth_max"] = {num(hi.x()), num(hi.y()), num(hi.z())};
-    r["max_penetration"] = num(state.max_penetration);
+    r["max_penetration"] = num(state.max_penetration);  // behind a surface, within the search's reach
+    r["max_penetration_reach"] = reach;                  // 2 eps: deeper is not seen
+    r["max_penetration_past_eps"] = past_eps;            // true: masses may be deeper or through
     r["kinetic_energy"] = num(ke);
     r["stable_dt_estimate"] = num(stable_dt);
     r["options"] = options_json(opts);
@@ -464,10 +490,16 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     }
   }
   if (!finite) return kExitFailed;
-  if (!quiet)
-    std::cout << model.scene_name << ": " << state.steps << " steps (" << state.t << " s simulated), "
-              << ms_per_step << " ms/step, max penetration " << state.max_penetration << " m, kinetic energy "
-              << ke << " J, cloth y " << lo.y() << " .. " << hi.y() << "\n";
+  if (!quiet) {
+    std::cout << model.scene_name << ": " << done << " steps of " << opts.dt << " s";
+    if (plan.substeps > 1) std::cout << " (" << plan.substeps << " substeps of " << plan.h << " s each)";
+    std::cout << ", " << state.t << " s simulated, "
+              << ms_per_step << " ms/step, max penetration " << state.max_penetration << " m"
+              << (past_eps ? " (behind a surface, as far as the search reaches: 2 eps = " + fmt(reach) +
+                                 " m; past eps the contact lets go, masses may be deeper or through)"
+                           : std::string())
+              << ", kinetic energy " << ke << " J, cloth y " << lo.y() << " .. " << hi.y() << "\n";
+  }
   return 0;
 }
 

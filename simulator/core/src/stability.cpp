@@ -382,31 +382,37 @@ SubstepPlan plan_substeps(double dt, double dt_stable, const SubstepPolicy& poli
       plan.substeps = std::max(1, static_cast<int>(need));
       if (plan.substeps > 1) {
         std::snprintf(buf, sizeof buf,
-                      "dt %.4g s exceeds dt_stable %.4g s: taking %d substeps of %.4g s "
-                      "(--substeps off to refuse instead)",
-                      dt, dt_stable, plan.substeps, dt / plan.substeps);
+                      "dt %.4g s is above the safe step %.4g s (%.2g x dt_stable %.4g s): taking %d "
+                      "substeps of %.4g s (--substeps off to refuse instead)",
+                      dt, policy.margin * dt_stable, policy.margin, dt_stable, plan.substeps,
+                      dt / plan.substeps);
         plan.message = buf;
       }
       break;
     }
   }
   plan.h = dt / plan.substeps;
-  if (policy.mode != SubstepPolicy::Mode::Auto && !(plan.h < dt_stable)) {
-    // off: refuse. N: the user's explicit choice is taken, with a warning (a blow-up is then
-    // caught by step()'s finite check and reported, never passed on).
+  // off and N use the same limit as auto, the safe step margin * dt_stable: off refuses exactly
+  // when auto would substep. N is the user's explicit choice: taken, with a warning (a blow-up
+  // is then caught by step()'s finite check and reported, never passed on).
+  const double safe = policy.margin * dt_stable;
+  const bool above_safe = !(std::ceil(plan.h / safe) <= 1.0);  // auto's test: it would substep
+  if (policy.mode != SubstepPolicy::Mode::Auto && above_safe) {
     plan.ok = policy.mode == SubstepPolicy::Mode::Fixed;
-    const double need = dt_stable > 0.0 ? std::ceil(dt / (policy.margin * dt_stable)) : 0.0;
+    const char* prefix = plan.ok ? "warning: " : "";
+    const char* what = plan.h >= dt_stable ? "h omega_max too large; the run would blow up"
+                                           : "inside the guard's margin; the run may blow up";
+    const double need = dt_stable > 0.0 ? std::ceil(dt / safe) : 0.0;
     if (need >= 1.0 && need <= policy.max_substeps)
       std::snprintf(buf, sizeof buf,
-                    "%sstep %.4g s is not below the stability limit dt_stable %.4g s (h omega_max "
-                    "too large; the run would blow up): use a smaller dt, --substeps auto or "
-                    "--substeps %d",
-                    plan.ok ? "warning: " : "", plan.h, dt_stable, static_cast<int>(need));
+                    "%sstep %.4g s is above the safe step %.4g s (%.2g x the stability limit "
+                    "dt_stable %.4g s; %s): use a smaller dt, --substeps auto or --substeps %d",
+                    prefix, plan.h, safe, policy.margin, dt_stable, what, static_cast<int>(need));
     else
       std::snprintf(buf, sizeof buf,
-                    "%sstep %.4g s is not below the stability limit dt_stable %.4g s (h omega_max "
-                    "too large; the run would blow up): use a smaller dt or another integrator",
-                    plan.ok ? "warning: " : "", plan.h, dt_stable);
+                    "%sstep %.4g s is above the safe step %.4g s (%.2g x the stability limit "
+                    "dt_stable %.4g s; %s): use a smaller dt or another integrator",
+                    prefix, plan.h, safe, policy.margin, dt_stable, what);
     plan.message = buf;
   }
   return plan;

@@ -1,0 +1,53 @@
+// Closed collider meshes: is a triangle mesh closed, which way do its faces point (signed
+// volume), and which points are inside it (generalised winding number). Plain geometry on
+// Eigen: no GL, no file format. Used at start-up to warn about a collider whose faces point
+// inwards and about cloth masses that start inside a collider (docs/scenes.md, "Start-up
+// warnings").
+#pragma once
+
+#include <clothsim/sim.hpp>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace clothsim {
+
+/// A triangle soup: corners.col(3 t + k) is corner k of triangle t (counter-clockwise seen
+/// from the front: the normal is (B - A) x (C - A)).
+using TriangleCorners = Eigen::Matrix3Xd;
+
+struct SolidInfo {
+  /// Every edge is shared by exactly two triangles that run along it in opposite directions
+  /// (corners are identified by exact position; triangles with two equal corners are ignored).
+  /// False for an empty mesh.
+  bool closed = false;
+  /// m^3, sum over the triangles of A . (B x C) / 6: the enclosed volume when closed, positive
+  /// when the faces point outwards, negative when they point inwards.
+  double signed_volume = 0.0;
+};
+SolidInfo analyse_solid(const TriangleCorners& corners);
+
+/// Generalised winding number of the triangles around p (van Oosterom-Strackee solid angles
+/// / 4 pi): for a closed mesh +1 inside with outward faces, -1 inside with inward faces, 0
+/// outside (about +-0.5 on the surface).
+double winding_number(const TriangleCorners& corners, const Eigen::Vector3d& p);
+
+/// The most point-triangle tests count_inside() does by default: one test costs ~25 ns
+/// (three square roots and an atan2), so at most ~1 s at start-up.
+inline constexpr double kInsideWorkBudget = 4e7;
+
+/// How many of `points` (3 x n) are inside the closed mesh (|winding number| > 0.5); points
+/// outside its bounding box are outside without a test. -1 when the work, points in the box
+/// times triangles, would exceed `work_budget`.
+std::int64_t count_inside(const TriangleCorners& corners, const Eigen::Matrix3Xd& points,
+                          double work_budget = kInsideWorkBudget);
+/// The start-up warnings about a model's colliders, one line each, "warning: ...": for every
+/// collider object that is a closed mesh, faces pointing inwards (negative signed volume) and
+/// the cloth masses (at x0) that start inside it (skipped silently above the work budget).
+/// Empty without colliders.
+std::vector<std::string> collider_warnings(const Model& model, double work_budget = kInsideWorkBudget);
+
+}  // namespace clothsim

@@ -1,0 +1,150 @@
+// Closed collider meshes (clothsim/closed_mesh.hpp): closedness, signed volume, inside test,
+// and the start-up warnings built from them (a collider whose faces point inwards, cloth
+// masses that start inside a collider).
+#include <clothsim/closed_mesh.hpp>
+#include <clothsim/collision.hpp>
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <vector>
+
+namespace clothsim {
+namespace {
+
+// The unit cube [0,1]^3: 8 vertices, 12 triangles, counter-clockwise seen from outside.
+Eigen::Matrix3Xd cube_vertices(double size = 1.0, Eigen::Vector3d at = Eigen::Vector3d::Zero()) {
+  Eigen::Matrix3Xd v(3, 8);
+  for (int i = 0; i < 8; ++i) v.col(i) = at + size * Eigen::Vector3d((i & 1) ? 1 : 0, (i & 2) ? 1 : 0, (i & 4) ? 1 : 0);
+  return v;
+}
+const std::vector<std::uint32_t> kCube = {
+    0, 2, 3, 0, 3, 1,  // z = 0, normal -z
+    4, 5, 7, 4, 7, 6,  // z = 1, +z
+    0, 1, 5, 0, 5, 4,  // y = 0, -y
+    2, 6, 7, 2, 7, 3,  // y = 1, +y
+    0, 4, 6, 0, 6, 2,  // x = 0, -x
+    1, 3, 7, 1, 7, 5}; // x = 1, +x
+
+std::vector<std::uint32_t> flipped(std::vector<std::uint32_t> idx) {
+  for (std::size_t t = 0; t < idx.size(); t += 3) std::swap(idx[t + 1], idx[t + 2]);
+  return idx;
+}
+
+TriangleCorners corners(const Eigen::Matrix3Xd& v, const std::vector<std::uint32_t>& idx) {
+  TriangleCorners c(3, static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t k = 0; k < idx.size(); ++k) c.col(static_cast<Eigen::Index>(k)) = v.col(idx[k]);
+  return c;
+}
+
+TEST(ClosedMesh, UnitCubeIsClosedWithVolumePlusOne) {
+  const SolidInfo s = analyse_solid(corners(cube_vertices(), kCube));
+  EXPECT_TRUE(s.closed);
+  EXPECT_NEAR(s.signed_volume, 1.0, 1e-12);
+}
+
+TEST(ClosedMesh, FlippedCubeHasVolumeMinusOne) {
+  const SolidInfo s = analyse_solid(corners(cube_vertices(), flipped(kCube)));
+  EXPECT_TRUE(s.closed);
+  EXPECT_NEAR(s.signed_volume, -1.0, 1e-12);
+}
+
+TEST(ClosedMesh, VolumeDoesNotDependOnWhereTheCubeIs) {
+  const SolidInfo s = analyse_solid(corners(cube_vertices(2.0, {5, -3, 7}), kCube));
+  EXPECT_TRUE(s.closed);
+  EXPECT_NEAR(s.signed_volume, 8.0, 1e-9);
+}
+
+TEST(ClosedMesh, OpenMeshesAreNotClosed) {
+  std::vector<std::uint32_t> open(kCube.begin(), kCube.end() - 6);  // no x = 1 side
+  EXPECT_FALSE(analyse_solid(corners(cube_vertices(), open)).closed);
+  // one face flipped: its edges run the same way as their neighbours'
+  std::vector<std::uint32_t> mixed = kCube;
+  std::swap(mixed[1], mixed[2]);
+  EXPECT_FALSE(analyse_solid(corners(cube_vertices(), mixed)).closed);
+  // a plane (the dice's floor): open
+  const std::vector<std::uint32_t> plane = {0, 1, 5, 0, 5, 4};
+  EXPECT_FALSE(analyse_solid(corners(cube_vertices(), plane)).closed);
+  // nothing
+  EXPECT_FALSE(analyse_solid(TriangleCorners(3, 0)).closed);
+  // a doubled face (an edge in four triangles)
+  std::vector<std::uint32_t> doubled = kCube;
+  doubled.insert(doubled.end(), kCube.begin(), kCube.begin() + 6);
+  EXPECT_FALSE(analyse_solid(corners(cube_vertices(), doubled)).closed);
+}
+
+// An export that splits vertices (UV seams: the same position twice) is still closed.
+TEST(ClosedMesh, SplitVerticesAreWeldedByPosition) {
+  Eigen::Matrix3Xd v(3, 16);
+  v << cube_vertices(), cube_vertices();
+  std::vector<std::uint32_t> idx = kCube;
+  for (std::size_t k = 18; k < idx.size(); ++k) idx[k] += 8;  // the last two sides use the copies
+  EXPECT_TRUE(analyse_solid(corners(v, idx)).closed);
+}
+
+TEST(ClosedMesh, WindingNumberInsideOutsideAndFlipped) {
+  const TriangleCorners c = corners(cube_vertices(), kCube), f = corners(cube_vertices(), flipped(kCube));
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.5, 0.5, 0.5), Eigen::Vector3d(0.01, 0.99, 0.5),
+                                  Eigen::Vector3d(0.999, 0.001, 0.999)}) {
+    EXPECT_NEAR(winding_number(c, p), 1.0, 1e-9) << p.transpose();
+    EXPECT_NEAR(winding_number(f, p), -1.0, 1e-9) << p.transpose();
+  }
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(1.5, 0.5, 0.5), Eigen::Vector3d(-0.01, 0.5, 0.5),
+                                  Eigen::Vector3d(10, -20, 30), Eigen::Vector3d(0.5, 1.0001, 0.5)}) {
+    EXPECT_NEAR(winding_number(c, p), 0.0, 1e-9) << p.transpose();
+    EXPECT_NEAR(winding_number(f, p), 0.0, 1e-9) << p.transpose();
+  }
+}
+
+TEST(ClosedMesh, CountInsideAndTheWorkBudget) {
+  Eigen::Matrix3Xd pts(3, 5);
+  pts << 0.5, 0.2, 1.5, 0.5, -3,  //
+      0.5, 0.9, 0.5, 0.5, 0,      //
+      0.5, 0.1, 0.5, 1.2, 0;
+  EXPECT_EQ(count_inside(corners(cube_vertices(), kCube), pts), 2);
+  EXPECT_EQ(count_inside(corners(cube_vertices(), flipped(kCube)), pts), 2);
+  // 2 points in the bounding box x 12 triangles = 24 tests: over a budget of 20, skipped (-1)
+  EXPECT_EQ(count_inside(corners(cube_vertices(), kCube), pts, 20), -1);
+  EXPECT_EQ(count_inside(corners(cube_vertices(), kCube), pts, 24), 2);
+}
+
+// A model: 4 masses, 3 of them inside a box collider; a floor plane (open: never warned about).
+Model model_with(const std::vector<std::uint32_t>& box) {
+  auto set = std::make_shared<ColliderSet>();
+  Eigen::Matrix3Xd floor(3, 4);
+  floor << -5, 5, 5, -5, -1, -1, -1, -1, -5, -5, 5, 5;
+  set->add_object("Floor", floor, std::vector<std::uint32_t>{0, 2, 1, 0, 3, 2});
+  set->add_object("Box", cube_vertices(), box);
+  set->build();
+  Model m;
+  m.x0.resize(3, 4);
+  m.x0 << 0.5, 0.2, 0.8, 3, 0.5, 0.5, 0.5, 3, 0.5, 0.5, 0.5, 3;
+  m.colliders = set;
+  return m;
+}
+
+TEST(ColliderWarnings, MassesInsideAClosedCollider) {
+  const std::vector<std::string> w = collider_warnings(model_with(kCube));
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("warning: 3 of 4 masses start inside collider 'Box'"), std::string::npos) << w[0];
+}
+
+TEST(ColliderWarnings, InwardFacesAreNamedWithTheVolume) {
+  const std::vector<std::string> w = collider_warnings(model_with(flipped(kCube)));
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_NE(w[0].find("collider 'Box' faces point inwards (signed volume -1 m^3)"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("Recalculate Outside"), std::string::npos) << w[0];
+  EXPECT_NE(w[1].find("3 of 4 masses start inside collider 'Box'"), std::string::npos) << w[1];
+}
+
+TEST(ColliderWarnings, NoneForACleanSceneOrWithoutColliders) {
+  Model m = model_with(kCube);
+  m.x0.setConstant(3.0);  // every mass outside
+  EXPECT_TRUE(collider_warnings(m).empty());
+  EXPECT_TRUE(collider_warnings(Model{}).empty());
+  // above the work budget: no count, no message
+  EXPECT_TRUE(collider_warnings(model_with(kCube), 1.0).empty());
+}
+
+}  // namespace
+}  // namespace clothsim
