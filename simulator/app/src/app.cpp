@@ -369,6 +369,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     vo.screenshot = screenshot;
     vo.frames_dir = frames;
     vo.fps = fps;
+    vo.substeps = plan.substeps;
     if (o_seconds->count()) vo.seconds = seconds;
     else if (o_steps->count()) vo.seconds = static_cast<double>(steps) * opts.dt;
     return run_viewer(scene, model, vo);

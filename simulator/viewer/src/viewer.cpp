@@ -254,10 +254,14 @@ class Viewer {
       }
     }
     const double wall = std::chrono::duration<double>(Clock::now() - run_start).count();
-    std::printf("clothsim: viewer closed at t = %.2f s after %llu steps (%.3f ms/step, %.2fx real "
+    // Steps of the user's dt (substeps x the model's dt), as the headless summary counts them.
+    const auto sub = static_cast<std::uint64_t>(std::max(opt_.substeps, 1));
+    const std::string of_sub =
+        sub > 1 ? " of " + std::to_string(sub) + " substeps each" : std::string();
+    std::printf("clothsim: viewer closed at t = %.2f s after %llu steps%s (%.3f ms/step, %.2fx real "
                 "time over %.2f s, %ld frames)%s\n",
-                state_.t, static_cast<unsigned long long>(state_.steps),
-                total_steps ? 1e3 * total_step_time / static_cast<double>(total_steps) : 0.0,
+                state_.t, static_cast<unsigned long long>(state_.steps / sub), of_sub.c_str(),
+                total_steps ? 1e3 * total_step_time * static_cast<double>(sub) / static_cast<double>(total_steps) : 0.0,
                 wall > 0.0 ? state_.t / wall : 0.0, wall, frames,
                 non_finite_ ? " (state non-finite)" : "");
     return non_finite_ ? 1 : 0;

@@ -24,6 +24,9 @@ struct ViewerOptions {
   bool show_springs = false;    ///< start with springs shown (key S toggles)
   bool wireframe = false;       ///< start in wireframe (key W toggles)
   double max_work_per_frame = 0.1;  ///< s of stepping per frame at most; beyond it run slower than real time
+  /// The model's dt is the user's step divided into this many substeps (the stability guard):
+  /// the closing summary counts steps of substeps x dt, as the headless run does.
+  int substeps = 1;
 };
 
 /// The flat cloth colour of ViewerOptions::flat_cloth (8-bit RGB), for tests that look for it.
