@@ -56,7 +56,8 @@ int run(const Options& opt, std::ostream& log) {
   std::vector<std::pair<std::filesystem::path, std::string>> extra;
   if (!opt.depfile.empty()) {
     // Makefile syntax for the build tool: the header depends on every file read.
-    std::string text = depfile_escape((std::filesystem::absolute(dir) / files.front().name).string()) + ":";
+    std::string text =
+        depfile_escape((std::filesystem::absolute(out_dir) / files.front().name).lexically_normal().string()) + ":";
     for (const auto& p : scene.inputs_read) text += " \\\n  " + depfile_escape(p.string());
     text += "\n";
     extra.emplace_back(opt.depfile, std::move(text));

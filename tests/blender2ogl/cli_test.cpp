@@ -282,6 +282,21 @@ TEST(Cli, CharacterDeviceOutputIsWrittenIntoNotReplaced) {
 
 // An output that is one of the inputs (the model, its .mtl, a texture), by name or through a
 // link, is refused before anything is written.
+// The model named without a folder (run from its folder) and no -t: the outputs and the
+// depfile go next to it (a depfile used to fail: "cannot make absolute path").
+TEST(Cli, BareModelNameWithDepfile) {
+  const auto dir = scratch("cli_bare_depfile");
+  write_file(dir / "m.obj", "o Cloth\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  std::string cmd = "cd " + shell_quote(dir.string()) + " && " + shell_quote(B2O_CONVERTER) + " -a Cloth --depfile m.d m.obj";
+  auto r = run_command(cmd);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "m.h"));
+  EXPECT_NE(read_file(dir / "m.d").find((fs::absolute(dir) / "m.h").string() + ":"), std::string::npos);
+  r = run_command("cd " + shell_quote(dir.string()) + " && " + shell_quote(B2O_CONVERTER) + " --depfile m.obj m.obj");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("an output would overwrite the input"), std::string::npos) << r.output;
+}
+
 TEST(Cli, OutputsNeverOverwriteInputs) {
   const auto dir = scratch("cli_output_is_input");
   const std::string obj = "mtllib m.h\no Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl M\nf 1 2 3\n";
