@@ -161,6 +161,16 @@ TEST(Cli, ExportEveryZeroSaysAtLeastOne) {
   EXPECT_LT(r.output.size(), 100u) << r.output;
 }
 
+// The viewer's window limits are bad input like any other option: exit 2, a readable range.
+TEST(Cli, WindowSizeAndFpsOutsideTheirRangeAreBadInput) {
+  for (const char* args : {"--width 0", "--width 100000", "--height 15", "--fps 0"}) {
+    const Result r = run(std::string("--headless --quiet --steps 5 ") + args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("not in range"), std::string::npos) << r.output;
+    EXPECT_LT(r.output.size(), 100u) << r.output;
+  }
+}
+
 TEST(Cli, ReportIntoAMissingFolderIsRefusedBeforeRunning) {
   const fs::path d = fresh_dir("missing");
   const Result r = run("--headless --report '" + (d / "no" / "r.json").string() + "'");

@@ -201,9 +201,10 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
                  "N: N substeps per step, as asked (a warning above the safe step)");
   auto* o_screenshot = app.add_option("--screenshot", screenshot, "Viewer: render at --seconds, write this PNG and exit");
   auto* o_frames = app.add_option("--frames", frames, "Viewer: write a PNG sequence into this directory up to --seconds");
-  app.add_option("--fps", fps, "Viewer: frames per simulated second for --frames (default 30)")->check(CLI::PositiveNumber);
-  app.add_option("--width", width, "Viewer: window width (default 1280)")->check(CLI::PositiveNumber);
-  app.add_option("--height", height, "Viewer: window height (default 720)")->check(CLI::PositiveNumber);
+  // The viewer's own limits (check_options), checked here so that they are bad input (exit 2).
+  app.add_option("--fps", fps, "Viewer: frames per simulated second for --frames (default 30)")->check(CLI::Range(1, 1000));
+  app.add_option("--width", width, "Viewer: window width (default 1280)")->check(CLI::Range(16, 8192));
+  app.add_option("--height", height, "Viewer: window height (default 720)")->check(CLI::Range(16, 8192));
   app.add_flag("--no-vsync", no_vsync, "Viewer: do not wait for vertical sync");
   app.add_flag("--paused", paused, "Viewer: start paused");
 
@@ -349,7 +350,8 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   const TunnellingReport tunnel = check_tunnelling(model, plan.h);
   if (!quiet) {
     std::cerr << "clothsim: " << describe(stab, opts.integrator) << "\n";
-    if (!plan.message.empty()) std::cerr << "clothsim: note: " << plan.message << "\n";
+    if (!plan.message.empty())  // a warning says so itself; anything else is a note
+      std::cerr << "clothsim: " << (plan.message.rfind("warning: ", 0) == 0 ? "" : "note: ") << plan.message << "\n";
   }
   // Every start-up warning, printed (also with --quiet) and listed in the report: tunnelling,
   // a closed collider whose faces point inwards, cloth masses that start inside a collider.
