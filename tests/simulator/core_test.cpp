@@ -240,6 +240,23 @@ TEST(Drag, PullsTheMassTowardTheTarget) {
   EXPECT_EQ(s.v(1, 0), 0.0);
 }
 
+// A target beyond the reach pulls as one at the reach: k * reach along the pull, not k * 100.
+TEST(Drag, TargetBeyondTheReachPullsAsAtTheReach) {
+  const Options o = no_gravity();
+  const Model m = test::grid_model(o, 3, 3);
+  State s = make_state(m);
+  Workspace ws = make_workspace(m);
+  const Eigen::Vector3d dir = Eigen::Vector3d(1.0, 2.0, -2.0) / 3.0;
+  Eigen::Matrix3Xd f_near(3, 9), f_far(3, 9);
+  ws.drag = Drag{4, m.x0.col(4) + 0.05 * dir, 10.0, 0.1};  // within the reach: k * 0.05
+  compute_forces(m, s.x, s.v, f_near, ws);
+  ws.drag = Drag{4, m.x0.col(4) + 100.0 * dir, 10.0, 0.1};  // far beyond: k * 0.1, not k * 100
+  compute_forces(m, s.x, s.v, f_far, ws);
+  EXPECT_NEAR((f_near.col(4) - 10.0 * 0.05 * dir).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((f_far.col(4) - 10.0 * 0.1 * dir).norm(), 0.0, 1e-12);
+  EXPECT_EQ(f_far.col(0), f_near.col(0));  // the other masses do not feel it
+}
+
 TEST(Options, ValidateRefusesBadValues) {
   EXPECT_EQ(validate_options(Options{}), "");
   Options o;

@@ -83,6 +83,18 @@ TEST(Camera, OrbitPanZoom) {
   EXPECT_NEAR(cam.distance, 4.0, 1e-12);
 }
 
+TEST(Camera, ZoomedFarOutTheSceneStaysBeforeTheFarPlane) {
+  cv::OrbitCamera cam;
+  cam.frame(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1), 1.0);
+  const double beyond = cam.far_plane - cam.distance;  // depth kept behind the target
+  cam.zoom(-40.0);  // 40 wheel steps out: distance x 166
+  EXPECT_GT(cam.distance, 100.0);
+  EXPECT_NEAR(cam.far_plane - cam.distance, beyond, 1e-9 * cam.far_plane);
+  cam.zoom(40.0);
+  EXPECT_NEAR(cam.far_plane - cam.distance, beyond, 1e-9 * cam.far_plane);
+  EXPECT_GT(cam.far_plane, cam.near_plane);
+}
+
 TEST(Camera, DragTargetStaysAtTheGrabbedDepthUnderTheCursor) {
   cv::OrbitCamera cam;
   cam.frame(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1), 1.0);
@@ -132,6 +144,14 @@ TEST(StepClock, CapsWorkPerFrameAndDropsTheBacklog) {
   // Fast enough again: behind() clears.
   EXPECT_EQ(clock.steps_due(0.0101, 1e-5), 10);
   EXPECT_FALSE(clock.behind());
+}
+
+TEST(StepClock, TakesOneStepWhileTheCostIsUnknown) {
+  // 0.2 s of backlog at dt 1 ms: 200 steps are due, but an unmeasured step could take seconds.
+  cv::StepClock clock(0.001, 0.1);
+  EXPECT_EQ(clock.steps_due(0.2, 0.0), 1);
+  EXPECT_TRUE(clock.behind());
+  EXPECT_EQ(clock.steps_due(0.001, 1e-6), 1);  // measured and cheap: real time again
 }
 
 TEST(StepClock, IgnoresBadElapsedTimes) {

@@ -522,8 +522,11 @@ void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::
   }
 #endif
   const Drag& d = ws.drag;
-  if (d.mass >= 0 && static_cast<std::size_t>(d.mass) < model.mass_count() && d.k > 0.0)
-    f.col(d.mass) += d.k * (d.target - x.col(d.mass));
+  if (d.mass >= 0 && static_cast<std::size_t>(d.mass) < model.mass_count() && d.k > 0.0) {
+    const Eigen::Vector3d pull = d.target - x.col(d.mass);
+    const double len = pull.norm();
+    f.col(d.mass) += d.k * (len > d.reach ? (d.reach / len) * pull : pull);
+  }
 }
 
 namespace {

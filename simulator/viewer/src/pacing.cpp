@@ -24,9 +24,11 @@ long StepClock::steps_due(double elapsed_wall, double step_cost) {
   if (!(elapsed_wall > 0.0)) elapsed_wall = 0.0;  // a clock that went backwards, or NaN
   accumulator_ += std::min(elapsed_wall, kMaxFrameGap);
   const long due = static_cast<long>(std::floor(accumulator_ / dt_ + 1e-9));
-  // At least one step always fits, otherwise a slow step would freeze the picture.
+  // At least one step always fits, otherwise a slow step would freeze the picture; with the
+  // cost not yet measured, one step (the first frame's backlog on a loaded machine froze the
+  // window for seconds before any step was timed).
   const long affordable =
-      step_cost > 0.0 ? std::max(1L, static_cast<long>(max_work_ / step_cost)) : due;
+      step_cost > 0.0 ? std::max(1L, static_cast<long>(max_work_ / step_cost)) : 1L;
   const long n = std::min(due, affordable);
   behind_ = due > affordable;
   accumulator_ -= static_cast<double>(n) * dt_;

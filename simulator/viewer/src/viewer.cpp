@@ -17,6 +17,7 @@
 #include <GLFW/glfw3.h>
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -74,6 +75,13 @@ class Viewer {
       : scene_(scene), model_(model), opt_(opt), state_(make_state(model)),
         ws_(make_workspace(model)), clock_(model.options.dt, opt.max_work_per_frame) {
     paused_ = opt.paused;
+    // The drag's reach: twice the mean structural rest length (a cursor far away pulls like a
+    // spring stretched by that much, so the grabbed point follows instead of being flung).
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::size_t s = 0; s < model.spring_count(); ++s)
+      if (model.spring_kind[s] == 0) sum += model.rest_length0[s], ++count;
+    if (count > 0 && sum > 0.0) drag_reach_ = 2.0 * sum / static_cast<double>(count);
     wireframe_ = opt.wireframe;
     show_springs_ = opt.show_springs;
   }
@@ -185,11 +193,22 @@ class Viewer {
     auto window_start = last;
     double window_sim_start = state_.t, window_step_time = 0.0;
     std::uint64_t window_steps = 0;
+    // For the closing line: wall time while running (not paused) and simulated time advanced
+    // (R sets t back; pauses do not count).
+    double run_wall = 0.0, sim_advanced = 0.0;
     update_title(0.0, 0.0, 0.0);
     while (!glfwWindowShouldClose(window_)) {
       glfwPollEvents();
       const auto now = Clock::now();
       const double elapsed = std::chrono::duration<double>(now - last).count();
+      if (!paused_) run_wall += elapsed;
+      if (stats_reset_) {  // R: the rates start again from the reset state
+        stats_reset_ = false;
+        window_start = now;
+        window_sim_start = state_.t;
+        window_steps = 0;
+        window_step_time = 0.0;
+      }
       last = now;
       long n = 0;
       if (!paused_) {
@@ -229,6 +248,7 @@ class Viewer {
         }
         window_steps += static_cast<std::uint64_t>(done);
         window_step_time += spent;
+        sim_advanced += static_cast<double>(done) * model_.options.dt;
         total_steps += static_cast<std::uint64_t>(done);
         total_step_time += spent;
       }
@@ -258,11 +278,12 @@ class Viewer {
     const auto sub = static_cast<std::uint64_t>(std::max(opt_.substeps, 1));
     const std::string of_sub =
         sub > 1 ? " of " + std::to_string(sub) + " substeps each" : std::string();
+    // The real-time factor over the time it ran: pauses and resets do not count.
     std::printf("clothsim: viewer closed at t = %.2f s after %llu steps%s (%.3f ms/step, %.2fx real "
-                "time over %.2f s, %ld frames)%s\n",
+                "time over %.2f s running, %ld frames in %.2f s)%s\n",
                 state_.t, static_cast<unsigned long long>(state_.steps / sub), of_sub.c_str(),
                 total_steps ? 1e3 * total_step_time * static_cast<double>(sub) / static_cast<double>(total_steps) : 0.0,
-                wall > 0.0 ? state_.t / wall : 0.0, wall, frames,
+                run_wall > 0.0 ? sim_advanced / run_wall : 0.0, run_wall, frames, wall,
                 non_finite_ ? " (state non-finite)" : "");
     return non_finite_ ? 1 : 0;
   }
@@ -318,6 +339,7 @@ class Viewer {
         break;
       case GLFW_KEY_R:
         state_ = make_state(model_);
+        stats_reset_ = true;
         dragging_ = false;
         non_finite_ = false;
         gpu_.upload_state(scene_, model_, state_, true);
@@ -366,6 +388,7 @@ class Viewer {
         drag_depth_ = (ray.origin + pick.t * ray.dir - camera_.eye()).dot(camera_.forward());
         state_.drag.mass = pick.mass;
         state_.drag.k = model_.options.k_struct;  // as stiff as one cloth spring: stable at dt
+        state_.drag.reach = drag_reach_;          // a far target pulls like one two springs away
         update_drag_target();
       } else {
         mode_ = Mouse::Orbit;
@@ -419,6 +442,8 @@ class Viewer {
   view::GlScene gpu_;
   GLFWwindow* window_ = nullptr;
   double step_cost_ = 0.0;
+  double drag_reach_ = std::numeric_limits<double>::infinity();
+  bool stats_reset_ = false;  ///< R was pressed: the title's rates start again
   bool paused_ = false, non_finite_ = false;
   long pending_steps_ = 0;
   bool wireframe_ = false, show_springs_ = false, screenshot_request_ = false;

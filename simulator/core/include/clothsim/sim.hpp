@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -55,6 +56,10 @@ struct Drag {
   std::int32_t mass = -1;  ///< -1: no drag
   Eigen::Vector3d target = Eigen::Vector3d::Zero();
   double k = 0.0;
+  /// m: the pull is k times the distance to the target, but at most this far: a target far
+  /// away (a fast mouse) pulls like one at this distance, instead of flinging one mass through
+  /// the cloth.
+  double reach = std::numeric_limits<double>::infinity();
 };
 
 /// Static collider triangles (world space) and their broadphase; see collision/.
