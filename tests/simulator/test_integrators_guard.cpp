@@ -82,5 +82,24 @@ TEST(StabilityGuard, LanczosConvergesInAFewHundredIterationsOnA128x128Cloth) {
   EXPECT_GE(tight.omega, est.omega * (1.0 - 1e-12));
 }
 
+// Lanczos stopped by its cap before converging: its Ritz value may be short of omega_max, so
+// the guard takes Gershgorin's safe bound for the springs instead, and says so.
+TEST(StabilityGuard, UnconvergedLanczosFallsBackToTheSafeBound) {
+  Options o;
+  o.mass = 2e-4;
+  const Model m = test::grid_model(o, 64, 64, {0u, 63u});
+  const OmegaEstimate few = omega_max_lanczos(m, nullptr, 3);
+  EXPECT_FALSE(few.converged);
+  const StabilityReport capped = analyse_stability(m, 3);
+  EXPECT_TRUE(capped.springs_by_bound);
+  EXPECT_EQ(capped.omega_springs, omega_max_bound(m, false));
+  EXPECT_NE(describe(capped, Integrator::SymplecticEuler).find("Lanczos did not converge"), std::string::npos);
+  const StabilityReport full = analyse_stability(m);
+  EXPECT_FALSE(full.springs_by_bound);
+  EXPECT_TRUE(omega_max_lanczos(m).converged);
+  EXPECT_GE(capped.omega_springs, full.omega_springs);  // safe: never a larger step
+  EXPECT_LE(capped.dt_stable, full.dt_stable);
+}
+
 }  // namespace
 }  // namespace clothsim

@@ -188,10 +188,16 @@ OmegaEstimate omega_max_lanczos(const Model& model, const Eigen::Matrix3Xd* x, i
     if (!(lambda > 0.0)) break;
     // |A y - theta y| = beta_j |last component of the unit Ritz vector| (Paige)
     est.residual = b * tridiagonal_last_component(alpha, beta, lambda) / lambda;
-    if (est.residual < tolerance || !(b > 1e-14 * lambda)) break;
+    if (est.residual < tolerance || !(b > 1e-14 * lambda)) {
+      est.converged = true;
+      break;
+    }
     // Near-degenerate top eigenvalues stall the residual but not the Ritz value.
     flat = std::abs(lambda - lambda_old) <= 1e-13 * lambda ? flat + 1 : 0;
-    if (flat >= 5) break;
+    if (flat >= 5) {
+      est.converged = true;
+      break;
+    }
     lambda_old = lambda;
     beta.push_back(b);
     beta_prev = b;
@@ -291,9 +297,12 @@ double stable_dt(Integrator method, double omega, double zeta) {
   return lo;
 }
 
-StabilityReport analyse_stability(const Model& model) {
+StabilityReport analyse_stability(const Model& model, int lanczos_iterations) {
   StabilityReport r;
-  r.omega_springs = omega_max_lanczos(model).omega;
+  const OmegaEstimate lanczos = omega_max_lanczos(model, nullptr, lanczos_iterations);
+  r.lanczos_iterations = lanczos.iterations;
+  r.springs_by_bound = !lanczos.converged && lanczos.omega > 0.0;
+  r.omega_springs = r.springs_by_bound ? omega_max_bound(model, false) : lanczos.omega;
   r.omega_bound = omega_max_bound(model, true);
   r.omega_contact = omega_contact(model);
   r.omega_max = std::sqrt(r.omega_springs * r.omega_springs + r.omega_contact * r.omega_contact);
@@ -307,10 +316,11 @@ StabilityReport analyse_stability(const Model& model) {
 std::string describe(const StabilityReport& r, Integrator method) {
   char buf[320];
   std::snprintf(buf, sizeof buf,
-                "stability: omega_max %.4g rad/s (springs %.4g by Lanczos, contact %.4g; "
+                "stability: omega_max %.4g rad/s (springs %.4g by %s, contact %.4g; "
                 "Gershgorin bound %.4g) -> %s dt_stable %.4g s",
-                r.omega_max, r.omega_springs, r.omega_contact, r.omega_bound, to_string(method),
-                r.dt_stable);
+                r.omega_max, r.omega_springs,
+                r.springs_by_bound ? "Gershgorin: Lanczos did not converge" : "Lanczos", r.omega_contact,
+                r.omega_bound, to_string(method), r.dt_stable);
   return buf;
 }
 

@@ -29,6 +29,7 @@ struct OmegaEstimate {
   double omega = 0.0;       ///< rad/s, sqrt of the largest Ritz value (a lower bound that converges)
   int iterations = 0;
   double residual = 0.0;    ///< |A y - lambda y| / lambda for the top Ritz vector y, at the end
+  bool converged = false;   ///< stopped on the tolerance (or a stalled Ritz value), not the cap
 };
 
 /// omega_max of the springs by Lanczos iteration on M^-1/2 K M^-1/2 (free masses only),
@@ -46,7 +47,10 @@ double stable_dt(Integrator method, double omega, double zeta = 0.0);
 
 /// Everything the guard knows about a Model, printed at start and put in the JSON report.
 struct StabilityReport {
-  double omega_springs = 0.0;   ///< rad/s, Lanczos (a lower bound that converges)
+  double omega_springs = 0.0;   ///< rad/s, Lanczos (a lower bound that converges); Gershgorin
+                                ///< (safe) when Lanczos did not converge in its iterations
+  int lanczos_iterations = 0;   ///< what Lanczos took
+  bool springs_by_bound = false;  ///< Lanczos did not converge: omega_springs is Gershgorin's
   double omega_bound = 0.0;     ///< rad/s, Gershgorin with contact (safe)
   double omega_contact = 0.0;   ///< rad/s
   double omega_max = 0.0;       ///< rad/s, used for the limits: sqrt(springs^2 + contact^2) (Weyl)
@@ -54,7 +58,9 @@ struct StabilityReport {
   double dt_stable = 0.0;       ///< s, the limit for model.options.integrator
   double dt_stable_symplectic = 0.0;  ///< s, 2 / omega_max (the seed's method)
 };
-StabilityReport analyse_stability(const Model& model);
+/// `lanczos_iterations`: the cap of omega_max_lanczos(); without convergence within it the
+/// springs' omega is Gershgorin's safe bound (a Ritz value short of convergence can be low).
+StabilityReport analyse_stability(const Model& model, int lanczos_iterations = 2000);
 
 /// When report.dt_stable is 0 (no step size is stable): why, one line naming `method`: the
 /// model has no damping (explicit Euler and midpoint need some), too little, or omega_max or
