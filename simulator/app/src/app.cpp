@@ -16,9 +16,12 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <optional>
+#include <csignal>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -43,6 +46,35 @@ using json = nlohmann::json;
 
 constexpr int kExitFailed = 1;
 constexpr int kExitBadInput = 2;
+constexpr int kExitInterrupted = 130;  // 128 + SIGINT, as a shell reports Ctrl-C
+
+// Ctrl-C (SIGINT) or SIGTERM during a headless run: the run stops after the step in progress,
+// and the summary and the report say where ("interrupted": true).
+volatile std::sig_atomic_t g_interrupted = 0;
+extern "C" void on_interrupt(int) { g_interrupted = 1; }
+
+// While alive: SIGINT and SIGTERM set g_interrupted instead of ending the process. Made before
+// the model is built, so that a signal during start-up also ends in a report (after 0 steps).
+class CatchInterrupt {
+ public:
+  CatchInterrupt() {
+    struct sigaction stop {};
+    stop.sa_handler = on_interrupt;
+    sigemptyset(&stop.sa_mask);
+    int_ok_ = ::sigaction(SIGINT, &stop, &old_int_) == 0;
+    term_ok_ = ::sigaction(SIGTERM, &stop, &old_term_) == 0;
+  }
+  ~CatchInterrupt() {
+    if (int_ok_) ::sigaction(SIGINT, &old_int_, nullptr);
+    if (term_ok_) ::sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  CatchInterrupt(const CatchInterrupt&) = delete;
+  CatchInterrupt& operator=(const CatchInterrupt&) = delete;
+
+ private:
+  struct sigaction old_int_ {}, old_term_ {};
+  bool int_ok_ = false, term_ok_ = false;
+};
 // The most steps of h (substeps included) one run may take: 1e9 steps are ~1 h of the smallest
 // scene and days of the skirt; beyond it a typo (--dt 1e-30) would run for ever.
 constexpr std::uint64_t kMaxSteps = 1'000'000'000;
@@ -316,6 +348,12 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     return bad_input("--report and --export-obj belong to headless runs: add --headless");
 #endif
 
+  std::optional<CatchInterrupt> catch_interrupt;  // headless runs only: Ctrl-C ends the viewer
+#ifdef CLOTHSIM_HAVE_VIEWER
+  if (headless) catch_interrupt.emplace();
+#else
+  catch_interrupt.emplace();
+#endif
   Model model;
   try {
     model = build_model(scene, opts);
@@ -426,7 +464,12 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
       return kExitFailed;
     }
   const std::clock_t cpu0 = std::clock();  // CPU time: robust to other processes on the machine
+  bool interrupted = false;
   for (std::uint64_t i = 0; i < total; ++i) {
+    if (g_interrupted) {
+      interrupted = true;
+      break;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     StepStatus st;
     for (int k = 0; k < plan.substeps && st.finite; ++k) st = step(model, state, ws);
@@ -447,7 +490,11 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     progress.update(i + 1, state.t);
   }
   progress.finish();
+  catch_interrupt.reset();  // the report is written with the usual signals
   const double cpu_ms = 1000.0 * static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
+  if (interrupted)
+    std::cerr << "clothsim: interrupted after " << done << " of " << total << " steps (t = " << state.t
+              << " s)" << (o_report->count() ? "; the report says so" : "") << "\n";
 
   // per step of dt, all its substeps included
   const double ms_per_step =
@@ -495,6 +542,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     r["cpu_ms_per_step"] = timed ? cpu_ms / static_cast<double>(timed) : 0.0;  // includes --export-obj
     r["finite"] = finite;
     if (!finite) r["failed_step"] = failed_step;
+    r["interrupted"] = interrupted;  // stopped by Ctrl-C or SIGTERM after `steps` steps
     r["cloth_min"] = {num(lo.x()), num(lo.y()), num(lo.z())};
     r["cloth_max"] = {num(hi.x()), num(hi.y()), num(hi.z())};
     r["max_penetration"] = num(state.max_penetration);  // behind a surface, within the search's reach
@@ -509,6 +557,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     }
   }
   if (!finite) return kExitFailed;
+  if (interrupted) return kExitInterrupted;
   if (!quiet) {
     std::cout << model.scene_name << ": " << done << " steps of " << opts.dt << " s";
     if (plan.substeps > 1) std::cout << " (" << plan.substeps << " substeps of " << plan.h << " s each)";
