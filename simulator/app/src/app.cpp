@@ -55,26 +55,10 @@ extern "C" void on_interrupt(int) { g_interrupted = 1; }
 
 // While alive: SIGINT and SIGTERM set g_interrupted instead of ending the process. Made before
 // the model is built, so that a signal during start-up also ends in a report (after 0 steps).
-class CatchInterrupt {
- public:
-  CatchInterrupt() {
-    struct sigaction stop {};
-    stop.sa_handler = on_interrupt;
-    sigemptyset(&stop.sa_mask);
-    int_ok_ = ::sigaction(SIGINT, &stop, &old_int_) == 0;
-    term_ok_ = ::sigaction(SIGTERM, &stop, &old_term_) == 0;
-  }
-  ~CatchInterrupt() {
-    if (int_ok_) ::sigaction(SIGINT, &old_int_, nullptr);
-    if (term_ok_) ::sigaction(SIGTERM, &old_term_, nullptr);
-  }
-  CatchInterrupt(const CatchInterrupt&) = delete;
-  CatchInterrupt& operator=(const CatchInterrupt&) = delete;
-
- private:
-  struct sigaction old_int_ {}, old_term_ {};
-  bool int_ok_ = false, term_ok_ = false;
+struct CatchInterrupt : io::SignalHandlers {
+  CatchInterrupt() : io::SignalHandlers(SIGINT, SIGTERM, on_interrupt) {}
 };
+
 // The most steps of h (substeps included) one run may take: 1e9 steps are ~1 h of the smallest
 // scene and days of the skirt; beyond it a typo (--dt 1e-30) would run for ever.
 constexpr std::uint64_t kMaxSteps = 1'000'000'000;

@@ -12,6 +12,25 @@
 #include <vector>
 
 namespace clothsim::io {
+
+struct SignalHandlers::Saved {
+  struct sigaction old[2];
+  bool ok[2];
+};
+
+SignalHandlers::SignalHandlers(int a, int b, void (*handler)(int)) : sig_{a, b}, saved_(new Saved{}) {
+  struct sigaction set {};
+  set.sa_handler = handler;
+  sigemptyset(&set.sa_mask);
+  for (int k = 0; k < 2; ++k) saved_->ok[k] = ::sigaction(sig_[k], &set, &saved_->old[k]) == 0;
+}
+
+SignalHandlers::~SignalHandlers() {
+  for (int k = 0; k < 2; ++k)
+    if (saved_->ok[k]) ::sigaction(sig_[k], &saved_->old[k], nullptr);
+  delete saved_;
+}
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -50,25 +69,8 @@ std::string in_writable_dir(const std::string& path, const std::string& dir) {
 
 // While alive: SIGPIPE (a pipe or FIFO whose reader left) and SIGXFSZ (a file size limit)
 // are ignored, so write() fails with EPIPE / EFBIG instead of the process being killed.
-class IgnoreWriteSignals {
- public:
-  IgnoreWriteSignals() {
-    struct sigaction ignore {};
-    ignore.sa_handler = SIG_IGN;
-    sigemptyset(&ignore.sa_mask);
-    pipe_ok_ = ::sigaction(SIGPIPE, &ignore, &old_pipe_) == 0;
-    xfsz_ok_ = ::sigaction(SIGXFSZ, &ignore, &old_xfsz_) == 0;
-  }
-  ~IgnoreWriteSignals() {
-    if (pipe_ok_) ::sigaction(SIGPIPE, &old_pipe_, nullptr);
-    if (xfsz_ok_) ::sigaction(SIGXFSZ, &old_xfsz_, nullptr);
-  }
-  IgnoreWriteSignals(const IgnoreWriteSignals&) = delete;
-  IgnoreWriteSignals& operator=(const IgnoreWriteSignals&) = delete;
-
- private:
-  struct sigaction old_pipe_ {}, old_xfsz_ {};
-  bool pipe_ok_ = false, xfsz_ok_ = false;
+struct IgnoreWriteSignals : SignalHandlers {
+  IgnoreWriteSignals() : SignalHandlers(SIGPIPE, SIGXFSZ, SIG_IGN) {}
 };
 
 // 0, or the errno of the failed write.

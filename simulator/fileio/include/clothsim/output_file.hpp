@@ -22,6 +22,22 @@
 
 namespace clothsim::io {
 
+/// While alive: `handler` (SIG_IGN, or a function) for the two signals `a` and `b`; the
+/// previous handlers come back at destruction. (Writes ignore SIGPIPE and SIGXFSZ with it; the
+/// app catches SIGINT and SIGTERM during a headless run.)
+class SignalHandlers {
+ public:
+  SignalHandlers(int a, int b, void (*handler)(int));
+  ~SignalHandlers();
+  SignalHandlers(const SignalHandlers&) = delete;
+  SignalHandlers& operator=(const SignalHandlers&) = delete;
+
+ private:
+  int sig_[2];
+  struct Saved;
+  Saved* saved_;  // the previous handlers (struct sigaction is POSIX; kept out of this header)
+};
+
 /// Before a run: can `path` be written by write_output_file()? Empty, or why not: a
 /// directory, a socket, a missing or unwritable parent directory, a dangling symbolic link.
 std::string check_output_file(const std::string& path);
