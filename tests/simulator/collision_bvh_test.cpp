@@ -403,3 +403,105 @@ TEST(CollisionBvh, CachedPenaltyOnEdgesAtRestAndInRanges) {
   EXPECT_THROW(accumulate_penalty(set, x, 5, 4, 0.1, 1000.0, f, s, whole), std::invalid_argument);
   EXPECT_THROW(accumulate_penalty(set, x, 0, n + 1, 0.1, 1000.0, f, s, whole), std::invalid_argument);
 }
+
+TEST(CollisionBvh, SquareRootOfASquareIsTheAbsoluteValue) {
+  // The plane certificate skips signed_distance()'s square root: for binary64 with
+  // round-to-nearest, sqrt(s * s) is exactly |s| when s * s neither underflows nor overflows
+  // (Boldo 2015). Checked here on this machine's arithmetic over the whole range it is used
+  // in (|s| >= 1e-150), with every exponent and random mantissas.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> mant(1.0, 2.0);
+  std::size_t checked = 0;
+  for (int e = -499; e <= 499; ++e)
+    for (int k = 0; k < 2000; ++k) {
+      const double s = std::ldexp(mant(rng), e) * (k % 2 ? -1.0 : 1.0);
+      if (!(std::abs(s) >= 1e-150)) continue;
+      const double r = std::sqrt(s * s);
+      ASSERT_TRUE(same_bits(r, std::abs(s))) << s;
+      ++checked;
+    }
+  for (const double s : {1e-150, -1e-150, 1.0, -1.0, 0.1, 1e150, -1e150,
+                         std::nextafter(1.0, 2.0), std::nextafter(2.0, 1.0)}) {
+    ASSERT_TRUE(same_bits(std::sqrt(s * s), std::abs(s))) << s;
+    ++checked;
+  }
+  EXPECT_GT(checked, 1'000'000u);
+}
+
+TEST(CollisionBvh, PlaneCertificatesAtRestAndAcrossEdgesStayBitIdentical) {
+  // Points over a coarse sphere and a flat grid (the skirt's colliders) and over one lone
+  // triangle (no neighbour to bound how far a point may go: only the face's edges do), first
+  // trembling by 1e-9 m (cloth at rest: plane certificates take over), then creeping 10 um
+  // per call (certificates in use while points cross edges, the rim and the reach), then
+  // drifting 200 um per call, then at rest again. Forces and stats equal brute force bit for
+  // bit at every call; at rest most pairs in reach hold a plane certificate.
+  ColliderSet set;
+  const auto s = clothsim::meshes::icosphere(1, 1.0);
+  set.add_object("sphere", s.vertices, s.indices);
+  const auto fl = clothsim::meshes::floor_grid(18, 2.0, -1.0);
+  set.add_object("floor", fl.vertices, fl.indices);
+  Eigen::Matrix3Xd tv(3, 3);
+  tv << 0.0, 1.0, 0.0,  //
+      3.0, 3.0, 3.0,    //
+      0.0, 0.0, -1.0;   // y = 3, normal +y
+  set.add_object("lone", tv, std::vector<std::uint32_t>{0, 1, 2});
+  set.build();
+  std::mt19937_64 rng(31);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::uniform_real_distribution<double> u(-2.05, 2.05), h(0.0, 0.19), e(-2e-3, 2e-3), t(0.0, 1.0);
+  Eigen::Matrix3Xd x(3, 1800), vel(3, 1800);
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    if (i % 3 == 0) {  // over the sphere, within the reach (0.2)
+      x.col(i) = Vector3d(g(rng), g(rng), g(rng)).normalized() * (0.99 + h(rng));
+    } else if (i % 3 == 1) {  // over the floor, some beyond its rim
+      x.col(i) = Vector3d(u(rng), -1.0 + h(rng), u(rng));
+    } else {  // over the lone triangle, within 2 mm of one of its edges
+      const double a = t(rng);
+      const Vector3d p0 = std::array<Vector3d, 3>{Vector3d(a, 3.0, 0.0), Vector3d(0.0, 3.0, -a),
+                                                  Vector3d(1.0 - a, 3.0, -a)}[static_cast<std::size_t>(i / 3 % 3)];
+      x.col(i) = p0 + Vector3d(e(rng), h(rng), e(rng));
+    }
+    vel.col(i) = Vector3d(g(rng), 0.3 * g(rng), g(rng)).normalized();
+  }
+  const auto n = static_cast<std::size_t>(x.cols());
+  const std::size_t no = set.object_count();
+  clothsim::ContactCache cache;
+  cache.resize(n, no);
+  std::size_t planes_at_rest = 0, in_reach_at_rest = 0, rounds = 0;
+  const auto count_planes = [&] {
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t o = 0; o < no; ++o) {
+        const auto c = static_cast<Eigen::Index>(i);
+        const double p[3] = {x(0, c), x(1, c), x(2, c)};
+        if (set.out_of_reach(o, p, 0.2 * 0.2)) continue;
+        ++in_reach_at_rest;
+        if (cache.planes[i * no + o].radius_sq() != 0.0f) ++planes_at_rest;
+      }
+  };
+  const auto call = [&](double step) {
+    if (step == 0.0) {
+      for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] += 1e-9 * g(rng);
+    } else {
+      x += step * vel;
+    }
+    Eigen::Matrix3Xd fb = Eigen::Matrix3Xd::Zero(3, x.cols()), fc = fb;
+    PenaltyStats sb, sc;
+    accumulate_penalty(set, x, 0.1, 1000.0, fb, sb, {}, QueryMethod::BruteForce);
+    accumulate_penalty(set, x, 0.1, 1000.0, fc, sc, cache);
+    ++rounds;
+    ASSERT_EQ(std::memcmp(fb.data(), fc.data(), sizeof(double) * 3 * n), 0) << "call " << rounds;
+    ASSERT_EQ(sb.contacts, sc.contacts) << "call " << rounds;
+    ASSERT_EQ(sb.tunnelled, sc.tunnelled) << "call " << rounds;
+    ASSERT_TRUE(same_bits(sb.max_penetration, sc.max_penetration)) << "call " << rounds;
+  };
+  for (int k = 0; k < 30 && !HasFailure(); ++k) call(0.0);
+  count_planes();
+  for (int k = 0; k < 300 && !HasFailure(); ++k) call(1e-5);
+  for (int k = 0; k < 30 && !HasFailure(); ++k) call(2e-4);
+  for (int k = 0; k < 30 && !HasFailure(); ++k) call(0.0);
+  count_planes();
+  EXPECT_GT(in_reach_at_rest, n);
+  // Pairs over an edge or a vertex (a tie between triangles), or nearer to one than the
+  // margins, keep the list certificate; the rest hold a plane one.
+  EXPECT_GT(planes_at_rest, in_reach_at_rest * 3 / 4) << planes_at_rest << " of " << in_reach_at_rest;
+}

@@ -698,11 +698,116 @@ inline double moved_from(const double p[3], const double x0[3]) {
   const double dx = p[0] - x0[0], dy = p[1] - x0[1], dz = p[2] - x0[2];
   return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
+
+// Stores the plane certificate "within r of p the answer stays" (see ContactCache::Plane)
+// and returns true, if r > 0 survives the roundings: x0 is kept in float (r shrinks by how
+// far that moved it) and r^2 in the upper half of a float, both rounded towards 0.
+inline bool store_plane(ContactCache::Plane& pl, std::uint16_t epoch, const double p[3],
+                        double r, bool face) {
+  const float x0[3] = {static_cast<float>(p[0]), static_cast<float>(p[1]),
+                       static_cast<float>(p[2])};
+  const double ex = p[0] - x0[0], ey = p[1] - x0[1], ez = p[2] - x0[2];
+  r -= std::sqrt(ex * ex + ey * ey + ez * ez) * (1.0 + 1e-6) + 1e-6 * r;
+  if (!(r > 0.0)) return false;
+  const float r2 = round_down(r * r * (1.0 - 1e-6));
+  std::uint32_t bits;
+  std::memcpy(&bits, &r2, sizeof bits);
+  bits >>= 16;  // a positive float cut to its upper half: rounded down
+  if (!(r2 > 0.0f) || bits == 0) return false;
+  pl.x0[0] = x0[0], pl.x0[1] = x0[1], pl.x0[2] = x0[2];
+  pl.r2 = static_cast<std::uint16_t>(face ? bits : (bits | 0x8000u));
+  pl.born = epoch;
+  return true;
+}
+
+// Whether entry e may make a plane certificate now (called where the plane check failed or
+// there was none): a certificate that lived fewer than 4 calls (or could not be made) makes
+// the next attempts wait 1, 3, 7 .. 63 calls.
+constexpr std::uint16_t kPlaneMinLife = 4;
+inline bool plane_due(ContactCache& cache, ContactCache::Entry& e, ContactCache::Plane& pl) {
+  if (pl.r2 != 0) {  // the last one no longer holds: judge how long it lived, once
+    if (static_cast<std::uint16_t>(cache.epoch - pl.born) < kPlaneMinLife) {
+      if (e.plane_backoff < 6) ++e.plane_backoff;
+      e.plane_wait = static_cast<std::uint8_t>((1u << e.plane_backoff) - 1u);
+    } else {
+      e.plane_backoff = 0;
+    }
+    pl.r2 = 0;
+  }
+  if (e.plane_wait > 0) {
+    --e.plane_wait;
+    return false;
+  }
+  return true;
+}
+inline void plane_failed(ContactCache::Entry& e) {
+  if (e.plane_backoff < 6) ++e.plane_backoff;
+  e.plane_wait = static_cast<std::uint8_t>((1u << e.plane_backoff) - 1u);
+}
 }  // namespace
 
 bool ColliderSet::out_of_reach(std::size_t o, const double p[3], double radius_sq) const {
   const Object& ob = objects_[o];
   return ob.kept == 0 || box_dist_sq(ob.lo, ob.hi, p) > radius_sq;
+}
+
+// The plane certificate of the answer, triangle t (component k at t[k * stride]) at distance
+// d (= |s|, s the plane distance) from p. Made only when p is over the face's inside, by a
+// margin (1e-6 of the coordinates) far beyond the kernel's rounding, on a triangle that is
+// not a sliver: then every point within r of p takes the kernel's face branch, whose
+// distance is |n.(p - a)|. r also keeps the answer within reach and strictly nearer than
+// every other triangle: `loser`, the other evaluated candidate's distance (or infinity);
+// the candidates from `next` on by their exact distance where their bound (less `moved`, as
+// the certificate says) is too close to tell, then by that bound; the rest by the entry's
+// bound of all others. m: the certificates' rounding margin.
+bool ColliderSet::make_plane(const double p[3], ContactCache& cache,
+                             std::size_t ei, const double* t, std::size_t stride, double d,
+                             double s, std::int32_t next, double loser, double moved, double m,
+                             double reach) const {
+  ContactCache::Plane& pl = cache.planes[ei];
+  const auto T = [t, stride](int k) { return t[static_cast<std::size_t>(k) * stride]; };
+  const double n[3] = {T(9), T(10), T(11)};
+  const double ab[3] = {T(3), T(4), T(5)}, ac[3] = {T(6), T(7), T(8)};
+  const double bc[3] = {ac[0] - ab[0], ac[1] - ab[1], ac[2] - ab[2]};
+  const auto len = [](const double v[3]) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
+  const double lab = len(ab), lac = len(ac), lbc = len(bc);
+  const double cx = ab[1] * ac[2] - ab[2] * ac[1], cy = ab[2] * ac[0] - ab[0] * ac[2],
+               cz = ab[0] * ac[1] - ab[1] * ac[0];
+  const double longest = std::max({lab, lac, lbc});
+  if (!(std::sqrt(cx * cx + cy * cy + cz * cz) >= 1e-2 * longest * longest)) return false;
+  // The foot of p relative to A, and its distance inside each edge's line (in the plane).
+  const double q[3] = {p[0] - T(0) - s * n[0], p[1] - T(1) - s * n[1], p[2] - T(2) - s * n[2]};
+  const auto inside = [&n](const double e[3], const double w[3], double l) {
+    // ((e x w) . n) / |e|: > 0 on the triangle's side of the edge (counter-clockwise)
+    return ((e[1] * w[2] - e[2] * w[1]) * n[0] + (e[2] * w[0] - e[0] * w[2]) * n[1] +
+            (e[0] * w[1] - e[1] * w[0]) * n[2]) / l;
+  };
+  const double qb[3] = {q[0] - ab[0], q[1] - ab[1], q[2] - ab[2]};
+  const double qc[3] = {q[0] - ac[0], q[1] - ac[1], q[2] - ac[2]};
+  const double ca[3] = {-ac[0], -ac[1], -ac[2]};
+  const double delta = std::min({inside(ab, q, lab), inside(bc, qb, lbc), inside(ca, qc, lac)});
+  const double margin =
+      1e-6 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + longest);
+  double r = std::min(delta - margin, reach - d - m);
+  if (!(r > 0.0)) return false;
+  // Every other triangle must stay farther than d + 2 r (+ margins).
+  const ContactCache::Entry& e = cache.entries[ei];
+  const std::uint32_t* cs = cache.slots.data() + ei * cache.candidates();
+  const float* cl = cache.lower.data() + ei * cache.candidates();
+  double others = std::min(loser, e.others_lb - moved) - m;
+  std::int32_t c = next;
+  for (; c < e.count; ++c) {
+    const double lb = static_cast<double>(cl[c]) - moved - m;
+    if (lb >= d + 2.0 * (r + m) || lb >= others) break;  // the rest are bounded by lb
+    double s_c;
+    others = std::min(others, std::sqrt(detail::closest_sq<kBlock>(p, tri_ptr(cs[c]), s_c)) - m);
+  }
+  if (c < e.count) others = std::min(others, static_cast<double>(cl[c]) - moved - m);
+  r = std::min(r, (others - d) * 0.5 - m);
+  if (!(r > 0.0)) return false;
+  pl.a[0] = T(0), pl.a[1] = T(1), pl.a[2] = T(2);
+  pl.n[0] = n[0], pl.n[1] = n[1], pl.n[2] = n[2];
+  return store_plane(pl, cache.epoch, p, r, true);
 }
 
 ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double radius_sq,
@@ -803,6 +908,10 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
   if (e.count == 0) {  // nothing was in reach: still none while L - moved stays beyond reach
     if (!(reach + moved + m < e.others_lb)) return false;
     hit = false;
+    ContactCache::Plane& pl = cache.planes[ei];
+    if (plane_due(cache, e, pl) &&
+        !store_plane(pl, cache.epoch, p, e.others_lb - moved - m - reach - m, false))
+      plane_failed(e);
   } else {
     const float* cl = cache.lower.data() + ei * cache.candidates();
     if (static_cast<double>(cl[0]) - moved - m > reach) return false;
@@ -822,7 +931,9 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
     }
     if (!(d2 <= radius_sq)) return false;
     double d = std::sqrt(d2);
-    if (e.count > 1 && !(static_cast<double>(cl[1]) - moved - m > d)) {
+    const bool alone = e.count == 1 || static_cast<double>(cl[1]) - moved - m > d;
+    double loser = std::numeric_limits<double>::infinity();  // the other evaluated candidate
+    if (!alone) {
       // The second candidate may be as near (a point over an edge between two triangles):
       // evaluate it too, when the certificate expects that (settled), else query_cached().
       if (e.settled < 2) return false;
@@ -831,8 +942,11 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
       const double d2b = detail::closest_sq<kBlock>(p, t, s1);
       const std::int32_t idx1 = orig_[cache.slots[ei * cache.candidates() + 1]];
       if (d2b <= radius_sq && better(d2b, idx1, d2, e.tri_index)) {
+        loser = d;
         d2 = d2b, s = s1, n = t + 9 * kBlock, stride = kBlock;
         d = std::sqrt(d2);
+      } else {
+        loser = std::sqrt(d2b);
       }
       if (e.count > 2 && !(static_cast<double>(cl[2]) - moved - m > d)) return false;
     }
@@ -841,6 +955,11 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
     hit = true;
     signed_distance = detail::signed_from(d, s);
     normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
+    // The next calls can take the plane certificate (the loser: the other evaluated one).
+    if (plane_due(cache, e, cache.planes[ei]) &&
+        !make_plane(p, cache, ei, n - 9 * stride, stride, d, s, alone ? 1 : 2, loser, moved, m,
+                    reach))
+      plane_failed(e);
   }
   if (e.age < kMinAge) ++e.age;
   return true;
@@ -932,7 +1051,7 @@ ColliderHit ColliderSet::renew_cached(std::size_t o, const double p[3], double r
 namespace {
 
 void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matrix3Xd>& x, double eps,
-                     double k_rep, Eigen::Ref<Eigen::Matrix3Xd>& f, PenaltyStats& stats, std::span<std::int32_t> hints,
+                     double k_rep, Eigen::Ref<Eigen::Matrix3Xd>& f, PenaltyStats& stats_out, std::span<std::int32_t> hints,
                      ContactCache* cache, QueryMethod method, std::size_t begin = 0,
                      std::size_t end = std::numeric_limits<std::size_t>::max()) {
   if (!set.built()) throw std::logic_error("accumulate_penalty(): ColliderSet not built");
@@ -947,13 +1066,15 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
   if (cache && (cache->entries.size() != n * no ||
                 cache->slots.size() != n * no * cache->candidates() ||
                 cache->lower.size() != n * no * cache->candidates() ||
-                cache->firsts.size() != n * no * 12))
+                cache->firsts.size() != n * no * 12 || cache->planes.size() != n * no))
     throw std::invalid_argument("accumulate_penalty(): ContactCache needs resize(points, objects)");
   if (end > n) end = n;
   if (begin > end)
     throw std::invalid_argument("accumulate_penalty(): point range outside the cloth");
-  stats = PenaltyStats{};
+  stats_out = PenaltyStats{};
   if (no == 0 || set.triangle_count() == 0) return;
+  PenaltyStats stats;  // counted here, where the compiler can keep it in registers (f is
+                       // written through a double*, which might alias stats_out)
 
   // Search to 2 eps so that points just past the band behind a surface are seen (tunnelled).
   const double reach = 2.0 * eps, reach_sq = reach * reach;
@@ -962,32 +1083,35 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
   double* pf = f.data();
   const Eigen::Index xs = x.outerStride(), fs = f.outerStride();
   // Eq. 12 for one (point, object) answer: d signed distance, n unit normal.
-  const auto respond = [&](double* fi, double d, const double* nrm) {
-    if (d < 0.0) stats.max_penetration = std::max(stats.max_penetration, -d);
+  // (Counted into `st`: the loop's own counts, which stay in registers, or the slow path's.)
+  const auto respond = [eps, k_rep](PenaltyStats& st, double* fi, double d, const double* nrm) {
+    if (d < 0.0) st.max_penetration = std::max(st.max_penetration, -d);
     if (d > eps) return;
     if (d < -eps) {
-      ++stats.tunnelled;
+      ++st.tunnelled;
       return;
     }
-    ++stats.contacts;
+    ++st.contacts;
     const double c = k_rep * (eps - d);  // f_i += (k_rep (eps - d)) n
     fi[0] += c * nrm[0];
     fi[1] += c * nrm[1];
     fi[2] += c * nrm[2];
   };
   // Everything but a certificate's common case, kept out of the loop.
+  PenaltyStats slow;
   const auto full = [&](std::size_t i, std::size_t o, const double p[3]) __attribute__((noinline)) {
     ColliderHit h;
     if (cache) {
       bool certified = false;
       h = set.query_cached(o, p, reach_sq, method, *cache, i * no + o, certified);
-      if (certified) ++stats.certified;
+      if (certified) ++slow.certified;
     } else {
       const std::int32_t hint = hints.empty() ? -1 : hints[i * no + o];
       h = set.query_object(o, p, reach_sq, method, hint);
       if (!hints.empty()) hints[i * no + o] = h.triangle;
     }
-    if (h.valid()) respond(pf + static_cast<Eigen::Index>(i) * fs, h.signed_distance, h.normal.data());
+    if (h.valid())
+      respond(slow, pf + static_cast<Eigen::Index>(i) * fs, h.signed_distance, h.normal.data());
   };
   for (std::size_t i = begin; i < end; ++i) {
     const double* xi = px + static_cast<Eigen::Index>(i) * xs;
@@ -1008,17 +1132,45 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
         if (!hints.empty()) hints[i * no + o] = -1;
         continue;
       }
+      if (cache) {  // the plane certificate: the common case in one cache line
+                    // (after the box test: a point far from the object reads no cache)
+        const ContactCache::Plane& pl = cache->planes[i * no + o];
+        const double dx = p[0] - static_cast<double>(pl.x0[0]),
+                     dy = p[1] - static_cast<double>(pl.x0[1]),
+                     dz = p[2] - static_cast<double>(pl.x0[2]);
+        const double r2 = static_cast<double>(pl.radius_sq());
+        if (dx * dx + dy * dy + dz * dz < std::abs(r2)) [[likely]] {
+          ++stats.certified;
+          if (r2 > 0.0) {  // over the face: the kernel's face branch, the same arithmetic
+            const double apx = p[0] - pl.a[0], apy = p[1] - pl.a[1], apz = p[2] - pl.a[2];
+            const double s = pl.n[0] * apx + pl.n[1] * apy + pl.n[2] * apz;
+            // signed_distance(s * s, s) without its square root: in binary floating point
+            // sqrt(s * s) is exactly |s| unless s * s underflows (Boldo 2015), and then the
+            // sign rule gives s, or +0 for -0 (tested bit for bit against the kernel).
+            const double d =
+                std::abs(s) >= 1e-150 ? s : detail::signed_distance(s * s, s);
+            respond(stats, pf + static_cast<Eigen::Index>(i) * fs, d, pl.n);
+          }
+          continue;
+        }
+      }
       bool hit = false;
       double d = 0.0, nrm[3];
       if (cache && detail::PenaltyLoop::certify(set, o, p, reach_sq, *cache, i * no + o, hit, d, nrm))
           [[likely]] {
         ++stats.certified;
-        if (hit) respond(pf + static_cast<Eigen::Index>(i) * fs, d, nrm);
+        if (hit) respond(stats, pf + static_cast<Eigen::Index>(i) * fs, d, nrm);
       } else {
         full(i, o, p);
       }
     }
   }
+  // max and sums: exact, so the split between the two does not show
+  stats.max_penetration = std::max(stats.max_penetration, slow.max_penetration);
+  stats.contacts += slow.contacts;
+  stats.tunnelled += slow.tunnelled;
+  stats.certified += slow.certified;
+  stats_out = stats;
 }
 
 }  // namespace
@@ -1032,6 +1184,7 @@ void accumulate_penalty(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3X
 void accumulate_penalty(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3Xd> x, double eps,
                         double k_rep, Eigen::Ref<Eigen::Matrix3Xd> f, PenaltyStats& stats,
                         ContactCache& cache, QueryMethod method) {
+  cache.tick();
   accumulate_impl(set, x, eps, k_rep, f, stats, {}, &cache, method);
 }
 

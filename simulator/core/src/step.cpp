@@ -493,6 +493,7 @@ void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::
         cs.seconds.assign(parts, 0.0);
       }
       bool timed = true;
+      cs.whole.tick();  // one call of the shared cache, in runs
 #pragma omp parallel num_threads(nt)
       {
         const std::size_t t = thread_num(), got = team_size();

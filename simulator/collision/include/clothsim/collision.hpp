@@ -20,6 +20,7 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <string>
 #include <vector>
@@ -104,6 +105,8 @@ struct ContactCache {
     /// Candidates a call at x0 evaluates (near-ties): a call that evaluates no more than this
     /// leaves the certificate where it is (moving it would learn nothing new).
     std::uint8_t settled = 1;
+    std::uint8_t plane_backoff = 0;  ///< plane certificates died young this many times in a row
+    std::uint8_t plane_wait = 0;     ///< calls to let pass before making the next one
   };
   std::vector<Entry> entries;        ///< point-major: entries[i * objects + o]
   std::vector<std::uint32_t> slots;  ///< entries.size() * candidates(): kept-triangle slots
@@ -112,6 +115,33 @@ struct ContactCache {
   /// the collider's own doubles), used for objects of more than 4096 triangles, so that a point
   /// at rest reads its entry and nothing of a collider that does not stay in cache.
   std::vector<double> firsts;
+  /// Per entry, a plane certificate: the common case of a resting or slowly sliding point,
+  /// checked first and in one cache line. While the point stays within sqrt(|r2|) of x0, the
+  /// object's answer is the triangle with corner `a` and unit normal `n`, the point over its
+  /// face (r2 > 0: the distance is the plane distance n.(p - a), computed as the full check
+  /// does, so the same bits), or nothing in reach (r2 < 0). r2 = 0: none. Made from a
+  /// holding list certificate (its lower bounds, less what the point moved) and the face's
+  /// edges, with rounding margins.
+  struct alignas(64) Plane {
+    double a[3] = {0.0, 0.0, 0.0};
+    double n[3] = {0.0, 0.0, 0.0};
+    float x0[3] = {0.0f, 0.0f, 0.0f};
+    std::uint16_t r2 = 0;    ///< the upper half of the float r2 (rounded towards 0), signed
+    std::uint16_t born = 0;  ///< `epoch` when it was made (how long it lived: worth making?)
+    float radius_sq() const {
+      const std::uint32_t bits = std::uint32_t{r2} << 16;
+      float f;
+      std::memcpy(&f, &bits, sizeof f);
+      return f;
+    }
+  };
+  std::vector<Plane> planes;  ///< entries.size()
+  /// Counts calls (accumulate_penalty() advances it; with point ranges, call tick() once per
+  /// step): a plane certificate that lived fewer than 4 calls makes its entry wait 1, 3, 7 ..
+  /// 63 calls before the next one (points sliding faster than such certificates last pay
+  /// for making them otherwise). Only the speed depends on it, never a result.
+  std::uint16_t epoch = 0;
+  void tick() { ++epoch; }
   std::size_t candidates() const { return k_; }
   void resize(std::size_t points, std::size_t objects,
               std::size_t candidates = kDefaultCandidates) {
@@ -120,10 +150,12 @@ struct ContactCache {
     slots.assign(entries.size() * k_, 0u);
     lower.assign(entries.size() * k_, 0.0f);
     firsts.assign(entries.size() * 12, 0.0);
+    planes.assign(entries.size(), Plane{});
   }
   /// Bytes per (point, object) pair.
   std::size_t bytes_per_entry() const {
-    return sizeof(Entry) + 12 * sizeof(double) + k_ * (sizeof(std::uint32_t) + sizeof(float));
+    return sizeof(Entry) + sizeof(Plane) + 12 * sizeof(double) +
+           k_ * (sizeof(std::uint32_t) + sizeof(float));
   }
 
  private:
@@ -259,6 +291,12 @@ struct ColliderSet {
   /// certify_fast(), inlined into accumulate_penalty()'s per-point loop.
   bool certify_inline(std::size_t o, const double p[3], double radius_sq, ContactCache& cache,
                       std::size_t ei, bool& hit, double& signed_distance, double normal[3]) const;
+  /// certify_inline()'s plane certificate for entry ei (ContactCache::Plane), kept out of line;
+  /// false when none can be made here.
+  [[gnu::noinline]] bool make_plane(const double p[3], ContactCache& cache,
+                                    std::size_t ei, const double* t, std::size_t stride, double d,
+                                    double s, std::int32_t next, double loser, double moved,
+                                    double m, double reach) const;
   detail::Tri tri_at(std::uint32_t slot) const;
   /// Where slot's 12 components start (component k at [k * 4]).
   const double* tri_ptr(std::uint32_t slot) const;
@@ -296,7 +334,8 @@ void accumulate_penalty(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3X
 
 /// The same for the points [begin, end) of x only (the others are neither read nor written,
 /// nor their cache entries): threads may share one cache, each with its own ranges. The
-/// answers do not depend on how the points are split. Throws std::invalid_argument on a
+/// answers do not depend on how the points are split. Call cache.tick() once per step (the
+/// other forms do it themselves): it only paces the making of plane certificates. Throws std::invalid_argument on a
 /// range outside x.
 void accumulate_penalty(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3Xd> x,
                         std::size_t begin, std::size_t end, double eps, double k_rep,
