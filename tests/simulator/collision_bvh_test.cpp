@@ -475,7 +475,7 @@ TEST(CollisionBvh, PlaneCertificatesAtRestAndAcrossEdgesStayBitIdentical) {
         const double p[3] = {x(0, c), x(1, c), x(2, c)};
         if (set.out_of_reach(o, p, 0.2 * 0.2)) continue;
         ++in_reach_at_rest;
-        if (cache.planes[i * no + o].radius_sq() != 0.0f) ++planes_at_rest;
+        if (cache.entries[i * no + o].plane.radius_sq() != 0.0f) ++planes_at_rest;
       }
   };
   const auto call = [&](double step) {

@@ -757,14 +757,14 @@ bool ColliderSet::out_of_reach(std::size_t o, const double p[3], double radius_s
 // not a sliver: then every point within r of p takes the kernel's face branch, whose
 // distance is |n.(p - a)|. r also keeps the answer within reach and strictly nearer than
 // every other triangle: `loser`, the other evaluated candidate's distance (or infinity);
-// the candidates from `next` on by their exact distance where their bound (less `moved`, as
-// the certificate says) is too close to tell, then by that bound; the rest by the entry's
+// the next (up to 3) candidates from `next` on by their exact distance where their bound
+// (less `moved`, as the certificate says) is too close to tell, then by that bound; the rest by the entry's
 // bound of all others. m: the certificates' rounding margin.
 bool ColliderSet::make_plane(const double p[3], ContactCache& cache,
                              std::size_t ei, const double* t, std::size_t stride, double d,
                              double s, std::int32_t next, double loser, double moved, double m,
                              double reach) const {
-  ContactCache::Plane& pl = cache.planes[ei];
+  ContactCache::Plane& pl = cache.entries[ei].plane;
   const auto T = [t, stride](int k) { return t[static_cast<std::size_t>(k) * stride]; };
   const double n[3] = {T(9), T(10), T(11)};
   const double ab[3] = {T(3), T(4), T(5)}, ac[3] = {T(6), T(7), T(8)};
@@ -796,7 +796,7 @@ bool ColliderSet::make_plane(const double p[3], ContactCache& cache,
   const float* cl = cache.lower.data() + ei * cache.candidates();
   double others = std::min(loser, e.others_lb - moved) - m;
   std::int32_t c = next;
-  for (; c < e.count; ++c) {
+  for (; c < std::min(e.count, next + 3); ++c) {  // at most 3: near many ties it cannot last
     const double lb = static_cast<double>(cl[c]) - moved - m;
     if (lb >= d + 2.0 * (r + m) || lb >= others) break;  // the rest are bounded by lb
     double s_c;
@@ -908,7 +908,7 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
   if (e.count == 0) {  // nothing was in reach: still none while L - moved stays beyond reach
     if (!(reach + moved + m < e.others_lb)) return false;
     hit = false;
-    ContactCache::Plane& pl = cache.planes[ei];
+    ContactCache::Plane& pl = cache.entries[ei].plane;
     if (plane_due(cache, e, pl) &&
         !store_plane(pl, cache.epoch, p, e.others_lb - moved - m - reach - m, false))
       plane_failed(e);
@@ -956,7 +956,7 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
     signed_distance = detail::signed_from(d, s);
     normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
     // The next calls can take the plane certificate (the loser: the other evaluated one).
-    if (plane_due(cache, e, cache.planes[ei]) &&
+    if (plane_due(cache, e, cache.entries[ei].plane) &&
         !make_plane(p, cache, ei, n - 9 * stride, stride, d, s, alone ? 1 : 2, loser, moved, m,
                     reach))
       plane_failed(e);
@@ -1066,7 +1066,7 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
   if (cache && (cache->entries.size() != n * no ||
                 cache->slots.size() != n * no * cache->candidates() ||
                 cache->lower.size() != n * no * cache->candidates() ||
-                cache->firsts.size() != n * no * 12 || cache->planes.size() != n * no))
+                cache->firsts.size() != n * no * 12))
     throw std::invalid_argument("accumulate_penalty(): ContactCache needs resize(points, objects)");
   if (end > n) end = n;
   if (begin > end)
@@ -1134,7 +1134,7 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
       }
       if (cache) {  // the plane certificate: the common case in one cache line
                     // (after the box test: a point far from the object reads no cache)
-        const ContactCache::Plane& pl = cache->planes[i * no + o];
+        const ContactCache::Plane& pl = cache->entries[i * no + o].plane;
         const double dx = p[0] - static_cast<double>(pl.x0[0]),
                      dy = p[1] - static_cast<double>(pl.x0[1]),
                      dz = p[2] - static_cast<double>(pl.x0[2]);

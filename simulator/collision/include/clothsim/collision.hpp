@@ -94,7 +94,29 @@ struct PenaltyStats {
 struct ContactCache {
   static constexpr std::size_t kDefaultCandidates = 16;
   static constexpr std::size_t kMaxCandidates = 32;  ///< resize() clamps to 1 .. this
-  struct Entry {
+  /// Per entry, a plane certificate: the common case of a resting or slowly sliding point,
+  /// checked first and in one cache line (the entry's first; its second holds the list
+  /// certificate, which the hardware fetches with it). While the point stays within sqrt(|r2|) of x0, the
+  /// object's answer is the triangle with corner `a` and unit normal `n`, the point over its
+  /// face (r2 > 0: the distance is the plane distance n.(p - a), computed as the full check
+  /// does, so the same bits), or nothing in reach (r2 < 0). r2 = 0: none. Made from a
+  /// holding list certificate (its lower bounds, less what the point moved) and the face's
+  /// edges, with rounding margins.
+  struct alignas(64) Plane {
+    double a[3] = {0.0, 0.0, 0.0};
+    double n[3] = {0.0, 0.0, 0.0};
+    float x0[3] = {0.0f, 0.0f, 0.0f};
+    std::uint16_t r2 = 0;    ///< the upper half of the float r2 (rounded towards 0), signed
+    std::uint16_t born = 0;  ///< `epoch` when it was made (how long it lived: worth making?)
+    float radius_sq() const {
+      const std::uint32_t bits = std::uint32_t{r2} << 16;
+      float f;
+      std::memcpy(&f, &bits, sizeof f);
+      return f;
+    }
+  };
+  struct alignas(64) Entry {
+    Plane plane;  ///< the plane certificate, in the entry's first cache line
     double x0[3] = {0.0, 0.0, 0.0};  ///< where the certificate was made
     double others_lb = 0.0;  ///< every triangle that is not a candidate was >= this far from x0
     std::int32_t count = -1;      ///< candidates stored (0: none in reach), -1: no certificate
@@ -115,27 +137,6 @@ struct ContactCache {
   /// the collider's own doubles), used for objects of more than 4096 triangles, so that a point
   /// at rest reads its entry and nothing of a collider that does not stay in cache.
   std::vector<double> firsts;
-  /// Per entry, a plane certificate: the common case of a resting or slowly sliding point,
-  /// checked first and in one cache line. While the point stays within sqrt(|r2|) of x0, the
-  /// object's answer is the triangle with corner `a` and unit normal `n`, the point over its
-  /// face (r2 > 0: the distance is the plane distance n.(p - a), computed as the full check
-  /// does, so the same bits), or nothing in reach (r2 < 0). r2 = 0: none. Made from a
-  /// holding list certificate (its lower bounds, less what the point moved) and the face's
-  /// edges, with rounding margins.
-  struct alignas(64) Plane {
-    double a[3] = {0.0, 0.0, 0.0};
-    double n[3] = {0.0, 0.0, 0.0};
-    float x0[3] = {0.0f, 0.0f, 0.0f};
-    std::uint16_t r2 = 0;    ///< the upper half of the float r2 (rounded towards 0), signed
-    std::uint16_t born = 0;  ///< `epoch` when it was made (how long it lived: worth making?)
-    float radius_sq() const {
-      const std::uint32_t bits = std::uint32_t{r2} << 16;
-      float f;
-      std::memcpy(&f, &bits, sizeof f);
-      return f;
-    }
-  };
-  std::vector<Plane> planes;  ///< entries.size()
   /// Counts calls (accumulate_penalty() advances it; with point ranges, call tick() once per
   /// step): a plane certificate that lived fewer than 4 calls makes its entry wait 1, 3, 7 ..
   /// 63 calls before the next one (points sliding faster than such certificates last pay
@@ -150,11 +151,10 @@ struct ContactCache {
     slots.assign(entries.size() * k_, 0u);
     lower.assign(entries.size() * k_, 0.0f);
     firsts.assign(entries.size() * 12, 0.0);
-    planes.assign(entries.size(), Plane{});
   }
   /// Bytes per (point, object) pair.
   std::size_t bytes_per_entry() const {
-    return sizeof(Entry) + sizeof(Plane) + 12 * sizeof(double) +
+    return sizeof(Entry) + 12 * sizeof(double) +
            k_ * (sizeof(std::uint32_t) + sizeof(float));
   }
 
