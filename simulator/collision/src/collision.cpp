@@ -758,8 +758,8 @@ bool ColliderSet::out_of_reach(std::size_t o, const double p[3], double radius_s
 // distance is |n.(p - a)|. r also keeps the answer within reach and strictly nearer than
 // every other triangle: `loser`, the other evaluated candidate's distance (or infinity);
 // the next (up to 3) candidates from `next` on by their exact distance where their bound
-// (less `moved`, as the certificate says) is too close to tell, then by that bound; the rest by the entry's
-// bound of all others. m: the certificates' rounding margin.
+// (less `moved`, as the certificate says) is too close to tell, then by that bound; the
+// rest by the entry's bound of all others. m: the certificates' rounding margin.
 bool ColliderSet::make_plane(const double p[3], ContactCache& cache,
                              std::size_t ei, const double* t, std::size_t stride, double d,
                              double s, std::int32_t next, double loser, double moved, double m,
