@@ -161,6 +161,44 @@ TEST(StepClock, IgnoresBadElapsedTimes) {
   EXPECT_LE(clock.steps_due(1e9, 1e-6), 25);  // a stall is not caught up
 }
 
+TEST(StepsOfDt, CountsStepsOfTheUsersDtNotSubsteps) {
+  const cv::StepsOfDt four{4};
+  EXPECT_EQ(four.completed(40), 10u);
+  EXPECT_EQ(four.completed(43), 10u);  // a step of dt half done is not done
+  // A failure in any substep of step 11 of dt is step 11's, and 10 steps were completed.
+  for (std::uint64_t model_step : {41u, 43u, 44u}) {
+    EXPECT_EQ(four.containing(model_step), 11u) << model_step;
+    EXPECT_EQ(four.completed_before_failure(model_step), 10u) << model_step;
+  }
+  EXPECT_EQ(four.step_label(43), "step 11, substep 3 of 4");
+  const cv::StepsOfDt one{1};
+  EXPECT_EQ(one.completed(40), 40u);
+  EXPECT_EQ(one.containing(40), 40u);
+  EXPECT_EQ(one.completed_before_failure(40), 39u);
+  EXPECT_EQ(one.step_label(40), "step 40");
+  EXPECT_EQ(cv::StepsOfDt{0}.completed(40), 40u);  // no substeps given: each step is one
+}
+
+TEST(StepsOfDt, TitleRatesArePerStepOfTheUsersDt) {
+  // 40 model steps of dt / 4 in 1 s of wall time, 8 ms of stepping, 0.04 s simulated: 10 steps
+  // of dt per second at 0.8 ms each (4 substeps of 0.2 ms).
+  const cv::StepRates r = cv::step_rates(cv::StepsOfDt{4}, 40, 0.008, 0.04, 1.0);
+  EXPECT_DOUBLE_EQ(r.steps_per_s, 10.0);
+  EXPECT_DOUBLE_EQ(r.ms_per_step, 0.8);
+  EXPECT_DOUBLE_EQ(r.realtime, 0.04);
+  EXPECT_EQ(cv::stats_text("skirt", 1280, 720, 0.04, r, " | paused"),
+            "clothsim skirt | 1280x720 | t 0.04 s | 10 steps/s | 0.80 ms/step | 0.04x real time | paused");
+  // Without substeps the counts are the model's.
+  const cv::StepRates one = cv::step_rates(cv::StepsOfDt{1}, 40, 0.008, 0.04, 1.0);
+  EXPECT_DOUBLE_EQ(one.steps_per_s, 40.0);
+  EXPECT_DOUBLE_EQ(one.ms_per_step, 0.2);
+  // Nothing measured yet: zeros, not NaN.
+  const cv::StepRates none = cv::step_rates(cv::StepsOfDt{4}, 0, 0.0, 0.0, 0.0);
+  EXPECT_EQ(none.steps_per_s, 0.0);
+  EXPECT_EQ(none.ms_per_step, 0.0);
+  EXPECT_EQ(none.realtime, 0.0);
+}
+
 TEST(Renderer, SoftwareRenderersAreRecognised) {
   EXPECT_TRUE(cv::software_renderer("llvmpipe (LLVM 15.0.6, 256 bits)"));
   EXPECT_TRUE(cv::software_renderer("softpipe"));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace clothsim::view {
@@ -35,6 +36,51 @@ long StepClock::steps_due(double elapsed_wall, double step_cost) {
   if (behind_) accumulator_ = std::fmod(accumulator_, dt_);  // drop the backlog: no spiral
   accumulator_ = std::max(accumulator_, 0.0);
   return n;
+}
+
+namespace {
+std::uint64_t per_dt(int substeps) { return static_cast<std::uint64_t>(std::max(substeps, 1)); }
+}  // namespace
+
+std::uint64_t StepsOfDt::completed(std::uint64_t model_steps) const {
+  return model_steps / per_dt(substeps);
+}
+
+std::uint64_t StepsOfDt::containing(std::uint64_t model_step) const {
+  return model_step == 0 ? 0 : (model_step - 1) / per_dt(substeps) + 1;
+}
+
+std::uint64_t StepsOfDt::completed_before_failure(std::uint64_t model_step) const {
+  return model_step == 0 ? 0 : containing(model_step) - 1;
+}
+
+std::string StepsOfDt::step_label(std::uint64_t model_step) const {
+  std::string label = "step " + std::to_string(containing(model_step));
+  if (const std::uint64_t n = per_dt(substeps); n > 1 && model_step > 0)
+    label += ", substep " + std::to_string((model_step - 1) % n + 1) + " of " + std::to_string(n);
+  return label;
+}
+
+StepRates step_rates(const StepsOfDt& steps, std::uint64_t model_steps, double step_seconds,
+                     double sim_seconds, double wall_seconds) {
+  // Fractional steps of dt, not completed(): a half-second window seldom ends on a whole step
+  // of dt, and rounding down would make the rates jump by one step in every window.
+  const double n = static_cast<double>(model_steps) / static_cast<double>(per_dt(steps.substeps));
+  StepRates r;
+  if (wall_seconds > 0.0) {
+    r.steps_per_s = n / wall_seconds;
+    r.realtime = sim_seconds / wall_seconds;
+  }
+  if (model_steps > 0) r.ms_per_step = 1e3 * step_seconds / n;
+  return r;
+}
+
+std::string stats_text(std::string_view scene, int width, int height, double t, const StepRates& rates,
+                       std::string_view status) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, " | %dx%d | t %.2f s | %.0f steps/s | %.2f ms/step | %.2fx real time", width,
+                height, t, rates.steps_per_s, rates.ms_per_step, rates.realtime);
+  return "clothsim " + std::string(scene) + buf + std::string(status);
 }
 
 }  // namespace clothsim::view

@@ -73,7 +73,8 @@ class Viewer {
  public:
   Viewer(const b2o::Scene& scene, const Model& model, const ViewerOptions& opt)
       : scene_(scene), model_(model), opt_(opt), state_(make_state(model)),
-        ws_(make_workspace(model)), clock_(model.options.dt, opt.max_work_per_frame) {
+        ws_(make_workspace(model)), clock_(model.options.dt, opt.max_work_per_frame),
+        of_dt_{opt.substeps} {
     paused_ = opt.paused;
     // The drag's reach: twice the mean structural rest length (a cursor far away pulls like a
     // spring stretched by that much, so the grabbed point follows instead of being flung).
@@ -116,9 +117,9 @@ class Viewer {
     const double dt = model_.options.dt;
     while (state_.t < t - 0.5 * dt) {
       if (!step(model_, state_, ws_).finite) {
-        std::fprintf(stderr, "clothsim: the simulation became non-finite at t = %.3f s (step %llu); "
+        std::fprintf(stderr, "clothsim: the simulation became non-finite at t = %.3f s (%s); "
                      "no picture written (try a smaller --dt)\n", state_.t,
-                     static_cast<unsigned long long>(state_.steps));
+                     of_dt_.step_label(state_.steps).c_str());
         return false;
       }
     }
@@ -196,7 +197,7 @@ class Viewer {
     // For the closing line: wall time while running (not paused) and simulated time advanced
     // (R sets t back; pauses do not count).
     double run_wall = 0.0, sim_advanced = 0.0;
-    update_title(0.0, 0.0, 0.0);
+    update_title(view::StepRates{});
     while (!glfwWindowShouldClose(window_)) {
       glfwPollEvents();
       const auto now = Clock::now();
@@ -215,7 +216,7 @@ class Viewer {
         n = clock_.steps_due(elapsed, step_cost_);
       } else {
         clock_.reset();
-        n = pending_steps_;  // N presses, each one step, even several within one frame
+        n = pending_steps_;  // N presses, each one step of dt, even several within one frame
       }
       pending_steps_ = 0;
       if (opt_.seconds >= 0.0) {  // a timed run: stop exactly at the requested time
@@ -232,9 +233,9 @@ class Viewer {
           if (!step(model_, state_, ws_).finite) {
             non_finite_ = true;
             paused_ = true;
-            std::fprintf(stderr, "clothsim: the simulation became non-finite at t = %.3f s (step %llu); "
+            std::fprintf(stderr, "clothsim: the simulation became non-finite at t = %.3f s (%s); "
                          "paused, R resets (try a smaller --dt)\n", state_.t,
-                         static_cast<unsigned long long>(state_.steps));
+                         of_dt_.step_label(state_.steps).c_str());
             // A timed run has nobody to press R: it ends, and the exit code says it failed.
             if (opt_.seconds >= 0.0) glfwSetWindowShouldClose(window_, GLFW_TRUE);
             update_title();
@@ -264,9 +265,7 @@ class Viewer {
 
       const double wall = std::chrono::duration<double>(Clock::now() - window_start).count();
       if (wall >= 0.5) {
-        const double sps = static_cast<double>(window_steps) / wall;
-        const double ms = window_steps ? 1e3 * window_step_time / static_cast<double>(window_steps) : 0.0;
-        update_title(sps, ms, (state_.t - window_sim_start) / wall);
+        update_title(view::step_rates(of_dt_, window_steps, window_step_time, state_.t - window_sim_start, wall));
         window_start = Clock::now();
         window_sim_start = state_.t;
         window_steps = 0;
@@ -274,39 +273,36 @@ class Viewer {
       }
     }
     const double wall = std::chrono::duration<double>(Clock::now() - run_start).count();
-    // Steps of the user's dt (substeps x the model's dt), as the headless summary counts them.
-    const auto sub = static_cast<std::uint64_t>(std::max(opt_.substeps, 1));
-    const std::string of_sub =
-        sub > 1 ? " of " + std::to_string(sub) + " substeps each" : std::string();
+    // Steps of the user's dt (substeps x the model's dt), as the headless summary counts them;
+    // a failed run counts those before the failing one, as its report does.
+    const std::uint64_t steps_done =
+        non_finite_ ? of_dt_.completed_before_failure(state_.steps) : of_dt_.completed(state_.steps);
     // The real-time factor over the time it ran: pauses and resets do not count.
+    const std::string of_sub =
+        opt_.substeps > 1 ? " of " + std::to_string(opt_.substeps) + " substeps each" : std::string();
+    const view::StepRates rates = view::step_rates(of_dt_, total_steps, total_step_time, sim_advanced, run_wall);
     std::printf("clothsim: viewer closed at t = %.2f s after %llu steps%s (%.3f ms/step, %.2fx real "
                 "time over %.2f s running, %ld frames in %.2f s)%s\n",
-                state_.t, static_cast<unsigned long long>(state_.steps / sub), of_sub.c_str(),
-                total_steps ? 1e3 * total_step_time * static_cast<double>(sub) / static_cast<double>(total_steps) : 0.0,
-                run_wall > 0.0 ? sim_advanced / run_wall : 0.0, run_wall, frames, wall,
+                state_.t, static_cast<unsigned long long>(steps_done), of_sub.c_str(),
+                rates.ms_per_step, rates.realtime, run_wall, frames, wall,
                 non_finite_ ? " (state non-finite)" : "");
     return non_finite_ ? 1 : 0;
   }
 
   // Keys redraw the title with the last measured rates (they are measured every 0.5 s).
-  void update_title() { update_title(last_sps_, last_ms_, last_realtime_); }
+  void update_title() { update_title(last_rates_); }
 
-  void update_title(double steps_per_s, double ms_per_step, double realtime) {
-    last_sps_ = steps_per_s;
-    last_ms_ = ms_per_step;
-    last_realtime_ = realtime;
-    char stats[256];
+  void update_title(const view::StepRates& rates) {
+    last_rates_ = rates;
     const char* status = non_finite_ ? " | NON-FINITE STATE: paused (R resets)"
                          : paused_   ? " | paused"
                          : clock_.behind() ? " | slower than real time"
                                            : "";
-    std::snprintf(stats, sizeof stats,
-                  "clothsim %s | %dx%d | t %.2f s | %.0f steps/s | %.2f ms/step | %.2fx real time%s",
-                  model_.scene_name.c_str(), gpu_.target.width, gpu_.target.height, state_.t,
-                  steps_per_s, ms_per_step, realtime, status);
+    const std::string stats =
+        view::stats_text(model_.scene_name, gpu_.target.width, gpu_.target.height, state_.t, rates, status);
     const std::string keys = "Space pause  N step  R reset  W wire  S springs  P shot  H text  Esc quit";
-    glfwSetWindowTitle(window_, (std::string(stats) + " | " + keys).c_str());
-    overlay_ = std::string(stats) + "\n" + keys +
+    glfwSetWindowTitle(window_, (stats + " | " + keys).c_str());
+    overlay_ = stats + "\n" + keys +
                "\nleft drag: pull the cloth (elsewhere: orbit)  right: orbit  middle/Shift: pan  wheel: zoom";
   }
 
@@ -334,7 +330,9 @@ class Viewer {
       case GLFW_KEY_PERIOD:
         if (!non_finite_) {
           paused_ = true;
-          ++pending_steps_;
+          // One step of the user's dt, all its substeps: the state stays on a whole step, as
+          // every count the viewer shows is of whole steps of dt.
+          pending_steps_ += std::max(opt_.substeps, 1);
         }
         break;
       case GLFW_KEY_R:
@@ -437,7 +435,8 @@ class Viewer {
   ViewerOptions opt_;
   State state_;
   Workspace ws_;
-  view::StepClock clock_;
+  view::StepClock clock_;  ///< in steps of the model's dt (substeps)
+  view::StepsOfDt of_dt_;  ///< what every text counts: steps of the user's dt
   view::OrbitCamera camera_;
   view::GlScene gpu_;
   GLFWwindow* window_ = nullptr;
@@ -450,7 +449,7 @@ class Viewer {
   bool dragging_ = false;
   bool interactive_ = false, show_overlay_ = true;
   std::string overlay_;
-  double last_sps_ = 0.0, last_ms_ = 0.0, last_realtime_ = 0.0;
+  view::StepRates last_rates_;
   double drag_depth_ = 0.0;
   Mouse mode_ = Mouse::None;
   double cursor_x_ = 0.0, cursor_y_ = 0.0;

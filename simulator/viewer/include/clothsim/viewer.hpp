@@ -25,7 +25,8 @@ struct ViewerOptions {
   bool wireframe = false;       ///< start in wireframe (key W toggles)
   double max_work_per_frame = 0.1;  ///< s of stepping per frame at most; beyond it run slower than real time
   /// The model's dt is the user's step divided into this many substeps (the stability guard):
-  /// the closing summary counts steps of substeps x dt, as the headless run does.
+  /// every count and rate the viewer shows (title, overlay, stderr, closing line) is of steps of
+  /// substeps x dt, as the headless run's, and N takes one such step.
   int substeps = 1;
 };
 
