@@ -304,17 +304,21 @@ __attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const 
     const __m256d len2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
                                        _mm256_mul_pd(dz, dz));
     const __m256d len = _mm256_sqrt_pd(len2);
+    // A block's list is mostly runs of consecutive springs (the converter writes them edge by
+    // edge): then the rest lengths and kinds load as in the list-free case.
+    const bool run = list && sl[3] == sl[0] + 3;
+    const std::size_t s0 = list ? sl[0] : j;
     __m256i kinds;  // the 4 kind bytes, widened
-    if (list) {
+    if (list && !run) {
       kinds = _mm256_setr_epi64x(kind[sl[0]], kind[sl[1]], kind[sl[2]], kind[sl[3]]);
     } else {
       std::uint32_t four;
-      std::memcpy(&four, kind + j, sizeof four);
+      std::memcpy(&four, kind + s0, sizeof four);
       kinds = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(static_cast<int>(four)));
     }
     const __m256d kv = _mm256_blendv_pd(kb, ks, _mm256_castsi256_pd(_mm256_cmpeq_epi64(kinds, _mm256_setzero_si256())));
-    const __m256d rv = list ? _mm256_setr_pd(rest[sl[0]], rest[sl[1]], rest[sl[2]], rest[sl[3]])
-                            : _mm256_loadu_pd(rest + j);
+    const __m256d rv = list && !run ? _mm256_setr_pd(rest[sl[0]], rest[sl[1]], rest[sl[2]], rest[sl[3]])
+                                    : _mm256_loadu_pd(rest + s0);
     __m256d c = _mm256_div_pd(_mm256_mul_pd(kv, _mm256_sub_pd(rv, len)), len);
     c = _mm256_blendv_pd(c, zero, _mm256_cmp_pd(len, zero, _CMP_EQ_OQ));
     const __m256d fx = _mm256_mul_pd(c, dx), fy = _mm256_mul_pd(c, dy), fz = _mm256_mul_pd(c, dz);
