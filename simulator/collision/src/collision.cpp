@@ -1051,7 +1051,7 @@ ColliderHit ColliderSet::renew_cached(std::size_t o, const double p[3], double r
 namespace {
 
 void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matrix3Xd>& x, double eps,
-                     double k_rep, Eigen::Ref<Eigen::Matrix3Xd>& f, PenaltyStats& stats_out, std::span<std::int32_t> hints,
+                     double k_rep, Eigen::Ref<Eigen::Matrix3Xd>& f, PenaltyStats& stats, std::span<std::int32_t> hints,
                      ContactCache* cache, QueryMethod method, std::size_t begin = 0,
                      std::size_t end = std::numeric_limits<std::size_t>::max()) {
   if (!set.built()) throw std::logic_error("accumulate_penalty(): ColliderSet not built");
@@ -1071,10 +1071,8 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
   if (end > n) end = n;
   if (begin > end)
     throw std::invalid_argument("accumulate_penalty(): point range outside the cloth");
-  stats_out = PenaltyStats{};
+  stats = PenaltyStats{};
   if (no == 0 || set.triangle_count() == 0) return;
-  PenaltyStats stats;  // counted here, where the compiler can keep it in registers (f is
-                       // written through a double*, which might alias stats_out)
 
   // Search to 2 eps so that points just past the band behind a surface are seen (tunnelled).
   const double reach = 2.0 * eps, reach_sq = reach * reach;
@@ -1083,35 +1081,32 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
   double* pf = f.data();
   const Eigen::Index xs = x.outerStride(), fs = f.outerStride();
   // Eq. 12 for one (point, object) answer: d signed distance, n unit normal.
-  // (Counted into `st`: the loop's own counts, which stay in registers, or the slow path's.)
-  const auto respond = [eps, k_rep](PenaltyStats& st, double* fi, double d, const double* nrm) {
-    if (d < 0.0) st.max_penetration = std::max(st.max_penetration, -d);
+  const auto respond = [&](double* fi, double d, const double* nrm) {
+    if (d < 0.0) stats.max_penetration = std::max(stats.max_penetration, -d);
     if (d > eps) return;
     if (d < -eps) {
-      ++st.tunnelled;
+      ++stats.tunnelled;
       return;
     }
-    ++st.contacts;
+    ++stats.contacts;
     const double c = k_rep * (eps - d);  // f_i += (k_rep (eps - d)) n
     fi[0] += c * nrm[0];
     fi[1] += c * nrm[1];
     fi[2] += c * nrm[2];
   };
   // Everything but a certificate's common case, kept out of the loop.
-  PenaltyStats slow;
   const auto full = [&](std::size_t i, std::size_t o, const double p[3]) __attribute__((noinline)) {
     ColliderHit h;
     if (cache) {
       bool certified = false;
       h = set.query_cached(o, p, reach_sq, method, *cache, i * no + o, certified);
-      if (certified) ++slow.certified;
+      if (certified) ++stats.certified;
     } else {
       const std::int32_t hint = hints.empty() ? -1 : hints[i * no + o];
       h = set.query_object(o, p, reach_sq, method, hint);
       if (!hints.empty()) hints[i * no + o] = h.triangle;
     }
-    if (h.valid())
-      respond(slow, pf + static_cast<Eigen::Index>(i) * fs, h.signed_distance, h.normal.data());
+    if (h.valid()) respond(pf + static_cast<Eigen::Index>(i) * fs, h.signed_distance, h.normal.data());
   };
   for (std::size_t i = begin; i < end; ++i) {
     const double* xi = px + static_cast<Eigen::Index>(i) * xs;
@@ -1149,7 +1144,7 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
             // sign rule gives s, or +0 for -0 (tested bit for bit against the kernel).
             const double d =
                 std::abs(s) >= 1e-150 ? s : detail::signed_distance(s * s, s);
-            respond(stats, pf + static_cast<Eigen::Index>(i) * fs, d, pl.n);
+            respond(pf + static_cast<Eigen::Index>(i) * fs, d, pl.n);
           }
           continue;
         }
@@ -1159,18 +1154,12 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
       if (cache && detail::PenaltyLoop::certify(set, o, p, reach_sq, *cache, i * no + o, hit, d, nrm))
           [[likely]] {
         ++stats.certified;
-        if (hit) respond(stats, pf + static_cast<Eigen::Index>(i) * fs, d, nrm);
+        if (hit) respond(pf + static_cast<Eigen::Index>(i) * fs, d, nrm);
       } else {
         full(i, o, p);
       }
     }
   }
-  // max and sums: exact, so the split between the two does not show
-  stats.max_penetration = std::max(stats.max_penetration, slow.max_penetration);
-  stats.contacts += slow.contacts;
-  stats.tunnelled += slow.tunnelled;
-  stats.certified += slow.certified;
-  stats_out = stats;
 }
 
 }  // namespace
