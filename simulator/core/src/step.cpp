@@ -285,52 +285,63 @@ __attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const 
   const __m256d ks = _mm256_set1_pd(model.options.k_struct), kb = _mm256_set1_pd(model.options.k_bend);
   const __m256d zero = _mm256_setzero_pd();
   const __m256i xyz = _mm256_setr_epi64x(-1, -1, -1, 0);  // lanes x, y, z of a mass (never past x's end)
+  // Eight springs per iteration as two independent groups of four, stage by stage, so that
+  // one group's loads and products overlap the other's square root and division.
+  constexpr int G = 2;
   std::size_t j = j0;
-  for (; j + 4 <= j1; j += 4) {
-    std::size_t sl[4];
-    for (int l = 0; l < 4; ++l) sl[l] = list ? list[j + l] : j + l;
-    // per spring a lane vector xa - xb = (dx, dy, dz, 0), then transposed to dx, dy, dz of 4 springs
-    __m256d d[4];
-    for (int l = 0; l < 4; ++l)
-      d[l] = _mm256_sub_pd(_mm256_maskload_pd(px + 3 * std::size_t{sa[sl[l]]}, xyz),
-                           _mm256_maskload_pd(px + 3 * std::size_t{sb[sl[l]]}, xyz));
-    const __m256d u0 = _mm256_unpacklo_pd(d[0], d[1]);  // x0 x1 z0 z1
-    const __m256d u1 = _mm256_unpackhi_pd(d[0], d[1]);  // y0 y1 0 0
-    const __m256d u2 = _mm256_unpacklo_pd(d[2], d[3]);  // x2 x3 z2 z3
-    const __m256d u3 = _mm256_unpackhi_pd(d[2], d[3]);  // y2 y3 0 0
-    const __m256d dx = _mm256_permute2f128_pd(u0, u2, 0x20);
-    const __m256d dy = _mm256_permute2f128_pd(u1, u3, 0x20);
-    const __m256d dz = _mm256_permute2f128_pd(u0, u2, 0x31);
-    const __m256d len2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
-                                       _mm256_mul_pd(dz, dz));
-    const __m256d len = _mm256_sqrt_pd(len2);
-    // A block's list is mostly runs of consecutive springs (the converter writes them edge by
-    // edge): then the rest lengths and kinds load as in the list-free case.
-    const bool run = list && sl[3] == sl[0] + 3;
-    const std::size_t s0 = list ? sl[0] : j;
-    __m256i kinds;  // the 4 kind bytes, widened
-    if (list && !run) {
-      kinds = _mm256_setr_epi64x(kind[sl[0]], kind[sl[1]], kind[sl[2]], kind[sl[3]]);
-    } else {
-      std::uint32_t four;
-      std::memcpy(&four, kind + s0, sizeof four);
-      kinds = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(static_cast<int>(four)));
+  for (; j + 4 * G <= j1; j += 4 * G) {
+    std::size_t sl[G][4];
+    for (int g = 0; g < G; ++g)
+      for (int l = 0; l < 4; ++l) sl[g][l] = list ? list[j + 4 * g + l] : j + 4 * g + l;
+    __m256d dx[G], dy[G], dz[G], len[G], kv[G], rv[G], c[G];
+    for (int g = 0; g < G; ++g) {
+      // per spring a lane vector xa - xb = (dx, dy, dz, 0), then transposed to dx, dy, dz of 4 springs
+      __m256d d[4];
+      for (int l = 0; l < 4; ++l)
+        d[l] = _mm256_sub_pd(_mm256_maskload_pd(px + 3 * std::size_t{sa[sl[g][l]]}, xyz),
+                             _mm256_maskload_pd(px + 3 * std::size_t{sb[sl[g][l]]}, xyz));
+      const __m256d u0 = _mm256_unpacklo_pd(d[0], d[1]);  // x0 x1 z0 z1
+      const __m256d u1 = _mm256_unpackhi_pd(d[0], d[1]);  // y0 y1 0 0
+      const __m256d u2 = _mm256_unpacklo_pd(d[2], d[3]);  // x2 x3 z2 z3
+      const __m256d u3 = _mm256_unpackhi_pd(d[2], d[3]);  // y2 y3 0 0
+      dx[g] = _mm256_permute2f128_pd(u0, u2, 0x20);
+      dy[g] = _mm256_permute2f128_pd(u1, u3, 0x20);
+      dz[g] = _mm256_permute2f128_pd(u0, u2, 0x31);
     }
-    const __m256d kv = _mm256_blendv_pd(kb, ks, _mm256_castsi256_pd(_mm256_cmpeq_epi64(kinds, _mm256_setzero_si256())));
-    const __m256d rv = list && !run ? _mm256_setr_pd(rest[sl[0]], rest[sl[1]], rest[sl[2]], rest[sl[3]])
-                                    : _mm256_loadu_pd(rest + s0);
-    __m256d c = _mm256_div_pd(_mm256_mul_pd(kv, _mm256_sub_pd(rv, len)), len);
-    c = _mm256_blendv_pd(c, zero, _mm256_cmp_pd(len, zero, _CMP_EQ_OQ));
-    const __m256d fx = _mm256_mul_pd(c, dx), fy = _mm256_mul_pd(c, dy), fz = _mm256_mul_pd(c, dz);
-    // transpose (fx, fy, fz, 0) of 4 springs into 4 blocks x, y, z, 0
-    const __m256d t0 = _mm256_unpacklo_pd(fx, fy);    // x0 y0 x2 y2
-    const __m256d t1 = _mm256_unpackhi_pd(fx, fy);    // x1 y1 x3 y3
-    const __m256d t2 = _mm256_unpacklo_pd(fz, zero);  // z0 0 z2 0
-    const __m256d t3 = _mm256_unpackhi_pd(fz, zero);  // z1 0 z3 0
-    _mm256_store_pd(fs + 4 * sl[0], _mm256_permute2f128_pd(t0, t2, 0x20));
-    _mm256_store_pd(fs + 4 * sl[1], _mm256_permute2f128_pd(t1, t3, 0x20));
-    _mm256_store_pd(fs + 4 * sl[2], _mm256_permute2f128_pd(t0, t2, 0x31));
-    _mm256_store_pd(fs + 4 * sl[3], _mm256_permute2f128_pd(t1, t3, 0x31));
+    for (int g = 0; g < G; ++g)
+      len[g] = _mm256_sqrt_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx[g], dx[g]), _mm256_mul_pd(dy[g], dy[g])),
+                                            _mm256_mul_pd(dz[g], dz[g])));
+    for (int g = 0; g < G; ++g) {
+      // A block's list is mostly runs of consecutive springs (the converter writes them edge by
+      // edge): then the rest lengths and kinds load as in the list-free case.
+      const bool run = list && sl[g][3] == sl[g][0] + 3;
+      const std::size_t s0 = sl[g][0];
+      __m256i kinds;  // the 4 kind bytes, widened
+      if (list && !run) {
+        kinds = _mm256_setr_epi64x(kind[sl[g][0]], kind[sl[g][1]], kind[sl[g][2]], kind[sl[g][3]]);
+        rv[g] = _mm256_setr_pd(rest[sl[g][0]], rest[sl[g][1]], rest[sl[g][2]], rest[sl[g][3]]);
+      } else {
+        std::uint32_t four;
+        std::memcpy(&four, kind + s0, sizeof four);
+        kinds = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(static_cast<int>(four)));
+        rv[g] = _mm256_loadu_pd(rest + s0);
+      }
+      kv[g] = _mm256_blendv_pd(kb, ks, _mm256_castsi256_pd(_mm256_cmpeq_epi64(kinds, _mm256_setzero_si256())));
+    }
+    for (int g = 0; g < G; ++g) c[g] = _mm256_div_pd(_mm256_mul_pd(kv[g], _mm256_sub_pd(rv[g], len[g])), len[g]);
+    for (int g = 0; g < G; ++g) {
+      const __m256d cg = _mm256_blendv_pd(c[g], zero, _mm256_cmp_pd(len[g], zero, _CMP_EQ_OQ));
+      const __m256d fx = _mm256_mul_pd(cg, dx[g]), fy = _mm256_mul_pd(cg, dy[g]), fz = _mm256_mul_pd(cg, dz[g]);
+      // transpose (fx, fy, fz, 0) of 4 springs into 4 blocks x, y, z, 0
+      const __m256d t0 = _mm256_unpacklo_pd(fx, fy);    // x0 y0 x2 y2
+      const __m256d t1 = _mm256_unpackhi_pd(fx, fy);    // x1 y1 x3 y3
+      const __m256d t2 = _mm256_unpacklo_pd(fz, zero);  // z0 0 z2 0
+      const __m256d t3 = _mm256_unpackhi_pd(fz, zero);  // z1 0 z3 0
+      _mm256_store_pd(fs + 4 * sl[g][0], _mm256_permute2f128_pd(t0, t2, 0x20));
+      _mm256_store_pd(fs + 4 * sl[g][1], _mm256_permute2f128_pd(t1, t3, 0x20));
+      _mm256_store_pd(fs + 4 * sl[g][2], _mm256_permute2f128_pd(t0, t2, 0x31));
+      _mm256_store_pd(fs + 4 * sl[g][3], _mm256_permute2f128_pd(t1, t3, 0x31));
+    }
   }
   spring_pass_scalar(model, px, fs, j, j1, list);
 }
