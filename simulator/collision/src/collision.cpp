@@ -2,11 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
 
 #include "kernel.hpp"
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define CLOTHSIM_AVX2 1
+#endif
 
 namespace clothsim {
 
@@ -974,6 +981,12 @@ bool ColliderSet::certify_fast(std::size_t o, const double p[3], double radius_s
 namespace detail {
 /// accumulate_penalty()'s way to the inlined check.
 struct PenaltyLoop {
+  /// Object o's padded box and whether it has triangles (out_of_reach()'s data).
+  static bool box(const ColliderSet& set, std::size_t o, const double*& lo, const double*& hi) {
+    const ColliderSet::Object& ob = set.objects_[o];
+    lo = ob.lo.data(), hi = ob.hi.data();
+    return ob.kept > 0;
+  }
   static bool certify(const ColliderSet& set, std::size_t o, const double p[3], double radius_sq,
                       ContactCache& cache, std::size_t ei, bool& hit, double& signed_distance,
                       double normal[3]) {
@@ -1050,6 +1063,132 @@ ColliderHit ColliderSet::renew_cached(std::size_t o, const double p[3], double r
 
 namespace {
 
+#ifdef CLOTHSIM_AVX2
+bool use_avx2() {
+  static const bool yes = __builtin_cpu_supports("avx2") && std::getenv("CLOTHSIM_NO_AVX2") == nullptr;
+  return yes;
+}
+
+// Rows r[0..3] (4 doubles each) to columns c0..c3.
+__attribute__((target("avx2"), always_inline)) inline void transpose4(const __m256d r[4], __m256d& c0, __m256d& c1,
+                                                                      __m256d& c2, __m256d& c3) {
+  const __m256d t0 = _mm256_unpacklo_pd(r[0], r[1]), t1 = _mm256_unpackhi_pd(r[0], r[1]);
+  const __m256d t2 = _mm256_unpacklo_pd(r[2], r[3]), t3 = _mm256_unpackhi_pd(r[2], r[3]);
+  c0 = _mm256_permute2f128_pd(t0, t2, 0x20), c1 = _mm256_permute2f128_pd(t1, t3, 0x20);
+  c2 = _mm256_permute2f128_pd(t0, t2, 0x31), c3 = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
+// Four points' x, y, z stored one after another (x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3) to
+// lanes: v[0] = x0 x1 x2 x3, v[1] the y, v[2] the z; and back.
+__attribute__((target("avx2"), always_inline)) inline void aos_to_lanes(const double* a, __m256d v[3]) {
+  const __m256d v0 = _mm256_loadu_pd(a), v1 = _mm256_loadu_pd(a + 4), v2 = _mm256_loadu_pd(a + 8);
+  const __m256d xy = _mm256_blend_pd(v0, v1, 0b1100);       // x0 y0 x2 y2
+  const __m256d zx = _mm256_permute2f128_pd(v0, v2, 0x21);  // z0 x1 z2 x3
+  const __m256d yz = _mm256_blend_pd(v1, v2, 0b1100);       // y1 z1 y3 z3
+  v[0] = _mm256_blend_pd(xy, zx, 0b1010);
+  v[1] = _mm256_shuffle_pd(xy, yz, 0b0101);
+  v[2] = _mm256_blend_pd(zx, yz, 0b1010);
+}
+__attribute__((target("avx2"), always_inline)) inline void lanes_to_aos(const __m256d v[3], double* a) {
+  const __m256d xy = _mm256_shuffle_pd(v[0], v[1], 0b0000);  // x0 y0 x2 y2
+  const __m256d zx = _mm256_blend_pd(v[2], v[0], 0b1010);    // z0 x1 z2 x3
+  const __m256d yz = _mm256_shuffle_pd(v[1], v[2], 0b1111);  // y1 z1 y3 z3
+  _mm256_storeu_pd(a, _mm256_permute2f128_pd(xy, zx, 0x20));
+  _mm256_storeu_pd(a + 4, _mm256_blend_pd(yz, xy, 0b1100));
+  _mm256_storeu_pd(a + 8, _mm256_permute2f128_pd(zx, yz, 0x31));
+}
+
+// The 32-bit halves idx[0..3] of v.
+__attribute__((target("avx2"), always_inline)) inline __m128i half(__m256d v, __m256i idx) {
+  return _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(v), idx));
+}
+
+/// accumulate_impl()'s box test and plane certificate for four consecutive points (x and f:
+/// the first point's coordinates and force, x, y, z per point) and one object (e: the first
+/// point's entry, the next ones `stride` entries on), in AVX2 lanes: the same IEEE operations
+/// in the same order as the scalar code (no FMA), so the same bits. Adds the forces of the
+/// pairs it answers to f, and their statistics; returns the lanes (bits) in the object's
+/// reach that it did not answer.
+__attribute__((target("avx2"))) unsigned plane_lanes_avx2(const double* x, const ContactCache::Entry* e,
+                                                         std::size_t stride, const double* lo, const double* hi,
+                                                         double reach_sq, double eps, double k_rep, double* f,
+                                                         PenaltyStats& stats) {
+  const __m256d zero = _mm256_setzero_pd();
+  __m256d p[3];  // x, y, z of the four points (read from x: a copy just stored would stall)
+  aos_to_lanes(x, p);
+  // box_dist_sq(): e = p < lo ? lo - p : (p > hi ? p - hi : 0), summed from 0 in x, y, z order
+  __m256d d2 = zero;
+  for (int k = 0; k < 3; ++k) {
+    const __m256d l = _mm256_set1_pd(lo[k]), h = _mm256_set1_pd(hi[k]);
+    __m256d ek = _mm256_blendv_pd(zero, _mm256_sub_pd(p[k], h), _mm256_cmp_pd(p[k], h, _CMP_GT_OQ));
+    ek = _mm256_blendv_pd(ek, _mm256_sub_pd(l, p[k]), _mm256_cmp_pd(p[k], l, _CMP_LT_OQ));
+    d2 = _mm256_add_pd(d2, _mm256_mul_pd(ek, ek));
+  }
+  const __m256d reach = _mm256_cmp_pd(d2, _mm256_set1_pd(reach_sq), _CMP_NGT_UQ);  // not out_of_reach()
+  const int in_reach = _mm256_movemask_pd(reach);
+  if (in_reach == 0) return 0;
+  // The four planes (64 bytes each: a, n, x0 as floats, r2 and born), transposed to lanes.
+  const auto* base = reinterpret_cast<const double*>(&e->plane);
+  const std::size_t step = stride * (sizeof(ContactCache::Entry) / sizeof(double));
+  __m256d lo4[4], hi4[4];
+  for (std::size_t l = 0; l < 4; ++l) {
+    lo4[l] = _mm256_load_pd(base + l * step);      // a0 a1 a2 n0
+    hi4[l] = _mm256_load_pd(base + l * step + 4);  // n1 n2 (x0[0] x0[1]) (x0[2] r2|born)
+  }
+  __m256d a[3], n[3], q[4];
+  transpose4(lo4, a[0], a[1], a[2], n[0]);
+  transpose4(hi4, n[1], n[2], q[0], q[1]);
+  // the floats: q[0] holds x0[0] and x0[1] of each lane, q[1] x0[2] and the word r2 | born << 16
+  const __m256i even = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6), odd = _mm256_setr_epi32(1, 3, 5, 7, 1, 3, 5, 7);
+  const __m256d dx = _mm256_sub_pd(p[0], _mm256_cvtps_pd(_mm_castsi128_ps(half(q[0], even))));
+  const __m256d dy = _mm256_sub_pd(p[1], _mm256_cvtps_pd(_mm_castsi128_ps(half(q[0], odd))));
+  const __m256d dz = _mm256_sub_pd(p[2], _mm256_cvtps_pd(_mm_castsi128_ps(half(q[1], even))));
+  // radius_sq(): r2 as the upper half of a float (`born`, the word's upper half, shifts out)
+  const __m256d r2 = _mm256_cvtps_pd(_mm_castsi128_ps(_mm_slli_epi32(half(q[1], odd), 16)));
+  const __m256d abs_r2 = _mm256_andnot_pd(_mm256_set1_pd(-0.0), r2);
+  const __m256d dist2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+  const __m256d inside = _mm256_and_pd(reach, _mm256_cmp_pd(dist2, abs_r2, _CMP_LT_OQ));
+  __m256d face = _mm256_and_pd(inside, _mm256_cmp_pd(r2, zero, _CMP_GT_OQ));
+  int answered = _mm256_movemask_pd(inside);
+  if (_mm256_movemask_pd(face) != 0) {
+    const __m256d s = _mm256_add_pd(
+        _mm256_add_pd(_mm256_mul_pd(n[0], _mm256_sub_pd(p[0], a[0])), _mm256_mul_pd(n[1], _mm256_sub_pd(p[1], a[1]))),
+        _mm256_mul_pd(n[2], _mm256_sub_pd(p[2], a[2])));
+    // |s| < 1e-150 (s * s would underflow): left to the scalar code's signed_distance()
+    const __m256d tiny = _mm256_and_pd(face, _mm256_cmp_pd(_mm256_andnot_pd(_mm256_set1_pd(-0.0), s),
+                                                          _mm256_set1_pd(1e-150), _CMP_NGE_UQ));
+    answered &= ~_mm256_movemask_pd(tiny);
+    face = _mm256_andnot_pd(tiny, face);
+    const __m256d d = s;
+    // respond(): the deepest penetration, then the band
+    const __m256d behind = _mm256_and_pd(face, _mm256_cmp_pd(d, zero, _CMP_LT_OQ));
+    alignas(32) double depth[4];
+    _mm256_store_pd(depth, _mm256_and_pd(behind, _mm256_sub_pd(zero, d)));
+    for (double v : depth) stats.max_penetration = std::max(stats.max_penetration, v);
+    const __m256d veps = _mm256_set1_pd(eps);
+    const __m256d near = _mm256_and_pd(face, _mm256_cmp_pd(d, veps, _CMP_NGT_UQ));
+    const __m256d tunnelled = _mm256_and_pd(near, _mm256_cmp_pd(d, _mm256_sub_pd(zero, veps), _CMP_LT_OQ));
+    const int contact = _mm256_movemask_pd(_mm256_andnot_pd(tunnelled, near));
+    stats.tunnelled += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(_mm256_movemask_pd(tunnelled))));
+    if (contact != 0) {
+      const __m256d c = _mm256_mul_pd(_mm256_set1_pd(k_rep), _mm256_sub_pd(veps, d));  // k_rep (eps - d)
+      __m256d cn[3];
+      for (int k = 0; k < 3; ++k) cn[k] = _mm256_mul_pd(c, n[k]);
+      // f_i += c n in lanes, only where in contact (the others keep their bits)
+      __m256d fv[3];
+      aos_to_lanes(f, fv);
+      const __m256d in = _mm256_castsi256_pd(_mm256_setr_epi64x(-(contact & 1), -((contact >> 1) & 1),
+                                                                -((contact >> 2) & 1), -((contact >> 3) & 1)));
+      for (int k = 0; k < 3; ++k) fv[k] = _mm256_blendv_pd(fv[k], _mm256_add_pd(fv[k], cn[k]), in);
+      lanes_to_aos(fv, f);
+      stats.contacts += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(contact)));
+    }
+  }
+  stats.certified += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(answered)));
+  return static_cast<unsigned>(in_reach & ~answered);
+}
+#endif
+
 void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matrix3Xd>& x, double eps,
                      double k_rep, Eigen::Ref<Eigen::Matrix3Xd>& f, PenaltyStats& stats, std::span<std::int32_t> hints,
                      ContactCache* cache, QueryMethod method, std::size_t begin = 0,
@@ -1108,7 +1247,49 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
     }
     if (h.valid()) respond(pf + static_cast<Eigen::Index>(i) * fs, h.signed_distance, h.normal.data());
   };
-  for (std::size_t i = begin; i < end; ++i) {
+  // One (point, object) pair: the object's box, the plane certificate, the inlined check, the rest.
+  const auto pair = [&](std::size_t i, std::size_t o, const double p[3]) {
+    // Far from this object: nothing in reach, and its cache entry is left as it is (a
+    // certificate stays true wherever the point goes: it is checked against the distance
+    // moved since it was made).
+    if (set.out_of_reach(o, p, reach_sq)) {
+      if (!hints.empty()) hints[i * no + o] = -1;
+      return;
+    }
+    if (cache) {  // the plane certificate: the common case in one cache line
+                  // (after the box test: a point far from the object reads no cache)
+      const ContactCache::Plane& pl = cache->entries[i * no + o].plane;
+      const double dx = p[0] - static_cast<double>(pl.x0[0]),
+                   dy = p[1] - static_cast<double>(pl.x0[1]),
+                   dz = p[2] - static_cast<double>(pl.x0[2]);
+      const double r2 = static_cast<double>(pl.radius_sq());
+      if (dx * dx + dy * dy + dz * dz < std::abs(r2)) [[likely]] {
+        ++stats.certified;
+        if (r2 > 0.0) {  // over the face: the kernel's face branch, the same arithmetic
+          const double apx = p[0] - pl.a[0], apy = p[1] - pl.a[1], apz = p[2] - pl.a[2];
+          const double s = pl.n[0] * apx + pl.n[1] * apy + pl.n[2] * apz;
+          // signed_distance(s * s, s) without its square root: in binary floating point
+          // sqrt(s * s) is exactly |s| unless s * s underflows (Boldo 2015), and then the
+          // sign rule gives s, or +0 for -0 (tested bit for bit against the kernel).
+          const double d =
+              std::abs(s) >= 1e-150 ? s : detail::signed_distance(s * s, s);
+          respond(pf + static_cast<Eigen::Index>(i) * fs, d, pl.n);
+        }
+        return;
+      }
+    }
+    bool hit = false;
+    double d = 0.0, nrm[3];
+    if (cache && detail::PenaltyLoop::certify(set, o, p, reach_sq, *cache, i * no + o, hit, d, nrm))
+        [[likely]] {
+      ++stats.certified;
+      if (hit) respond(pf + static_cast<Eigen::Index>(i) * fs, d, nrm);
+    } else {
+      full(i, o, p);
+    }
+  };
+  // The same point by point (a NaN point, or one far from every collider, is skipped).
+  const auto point = [&](std::size_t i) {
     const double* xi = px + static_cast<Eigen::Index>(i) * xs;
     const double p[3] = {xi[0], xi[1], xi[2]};
     const bool finite = std::isfinite(p[0] + p[1] + p[2]);
@@ -1117,49 +1298,44 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
       if (!hints.empty()) std::fill_n(hints.begin() + static_cast<std::ptrdiff_t>(i * no), no, -1);
       if (cache)
         for (std::size_t o = 0; o < no; ++o) cache->entries[i * no + o].count = -1;
-      continue;
+      return;
     }
-    for (std::size_t o = 0; o < no; ++o) {
-      // Far from this object: nothing in reach, and its cache entry is left as it is (a
-      // certificate stays true wherever the point goes: it is checked against the distance
-      // moved since it was made).
-      if (set.out_of_reach(o, p, reach_sq)) {
-        if (!hints.empty()) hints[i * no + o] = -1;
+    for (std::size_t o = 0; o < no; ++o) pair(i, o, p);
+  };
+  std::size_t i = begin;
+#ifdef CLOTHSIM_AVX2
+  if (cache && xs == 3 && fs == 3 && use_avx2()) {
+    // Four points at a time: each object's box and plane certificates for the four in AVX2
+    // (plane_lanes_avx2, the same arithmetic), the other pairs as above, object by object so
+    // that every point adds its objects' forces in the same order.
+    for (; i + 4 <= end; i += 4) {
+      alignas(32) double pg[12];  // x, y, z of the 4 points
+      bool usual = true;          // all 4 finite and near a collider
+      for (std::size_t l = 0; l < 4; ++l) {
+        const double* xi = px + static_cast<Eigen::Index>(i + l) * xs;
+        const double p[3] = {xi[0], xi[1], xi[2]};
+        pg[l] = p[0], pg[4 + l] = p[1], pg[8 + l] = p[2];
+        usual = usual && std::isfinite(p[0] + p[1] + p[2]) && !(box_dist_sq(lo, hi, p) > reach_sq);
+      }
+      if (!usual) [[unlikely]] {
+        for (std::size_t l = 0; l < 4; ++l) point(i + l);
         continue;
       }
-      if (cache) {  // the plane certificate: the common case in one cache line
-                    // (after the box test: a point far from the object reads no cache)
-        const ContactCache::Plane& pl = cache->entries[i * no + o].plane;
-        const double dx = p[0] - static_cast<double>(pl.x0[0]),
-                     dy = p[1] - static_cast<double>(pl.x0[1]),
-                     dz = p[2] - static_cast<double>(pl.x0[2]);
-        const double r2 = static_cast<double>(pl.radius_sq());
-        if (dx * dx + dy * dy + dz * dz < std::abs(r2)) [[likely]] {
-          ++stats.certified;
-          if (r2 > 0.0) {  // over the face: the kernel's face branch, the same arithmetic
-            const double apx = p[0] - pl.a[0], apy = p[1] - pl.a[1], apz = p[2] - pl.a[2];
-            const double s = pl.n[0] * apx + pl.n[1] * apy + pl.n[2] * apz;
-            // signed_distance(s * s, s) without its square root: in binary floating point
-            // sqrt(s * s) is exactly |s| unless s * s underflows (Boldo 2015), and then the
-            // sign rule gives s, or +0 for -0 (tested bit for bit against the kernel).
-            const double d =
-                std::abs(s) >= 1e-150 ? s : detail::signed_distance(s * s, s);
-            respond(pf + static_cast<Eigen::Index>(i) * fs, d, pl.n);
-          }
-          continue;
+      for (std::size_t o = 0; o < no; ++o) {
+        const double *olo, *ohi;
+        if (!detail::PenaltyLoop::box(set, o, olo, ohi)) continue;  // no triangles: out of reach
+        unsigned rest = plane_lanes_avx2(px + static_cast<Eigen::Index>(i) * xs, &cache->entries[i * no + o], no,
+                                         olo, ohi, reach_sq, eps, k_rep, pf + static_cast<Eigen::Index>(i) * fs, stats);
+        for (; rest != 0; rest &= rest - 1) {
+          const auto l = static_cast<std::size_t>(__builtin_ctz(rest));
+          const double p[3] = {pg[l], pg[4 + l], pg[8 + l]};
+          pair(i + l, o, p);
         }
-      }
-      bool hit = false;
-      double d = 0.0, nrm[3];
-      if (cache && detail::PenaltyLoop::certify(set, o, p, reach_sq, *cache, i * no + o, hit, d, nrm))
-          [[likely]] {
-        ++stats.certified;
-        if (hit) respond(pf + static_cast<Eigen::Index>(i) * fs, d, nrm);
-      } else {
-        full(i, o, p);
       }
     }
   }
+#endif
+  for (; i < end; ++i) point(i);
 }
 
 }  // namespace
