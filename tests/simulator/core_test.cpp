@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <set>
 #include <stdexcept>
+#include <tuple>
 
 namespace clothsim {
 namespace {
@@ -298,10 +300,48 @@ TEST(Builder, ConcatenatesClothsWithGlobalIndices) {
   EXPECT_EQ(m.mass_count(), 8u);
   EXPECT_EQ(m.cloths[1].first_mass, 4u);
   EXPECT_EQ(m.cloths[1].first_spring, sp.size());
-  EXPECT_EQ(m.spring_a[sp.size()], 4u + sp[0].a);
+  for (std::size_t s = 0; s < sp.size(); ++s) {  // the second cloth's springs: the first's, moved by 4
+    EXPECT_EQ(m.spring_a[sp.size() + s], 4u + m.spring_a[s]);
+    EXPECT_EQ(m.spring_b[sp.size() + s], 4u + m.spring_b[s]);
+  }
   EXPECT_EQ(m.pinned[5], 1);
   EXPECT_EQ(m.inv_mass[5], 0.0);
   EXPECT_DOUBLE_EQ(m.inv_mass[4], 10.0);
+}
+
+// The builder turns every spring from its lower mass and orders them by it, highest first,
+// keeping the springs (ends, kind, rest length) and the order of equals: then each mass meets
+// its springs, in index order, first as the a end and then as the b end.
+TEST(Builder, OrdersSpringsSoThatEachMassMeetsItsAEndsFirst) {
+  ModelBuilder mb(Options{});
+  std::vector<SpringSpec> sp = test::grid_springs(5, 4);
+  for (std::size_t s = 0; s < sp.size(); s += 3) std::swap(sp[s].a, sp[s].b);  // some turned around
+  sp[1].rest_length = 0.25;
+  const Eigen::Matrix3Xd pos = test::grid_positions(5, 4, 0.1, 0.0);
+  mb.add_cloth(pos, sp, {});
+  const Model m = mb.build();
+  ASSERT_EQ(m.spring_count(), sp.size());
+  std::multiset<std::tuple<std::uint32_t, std::uint32_t, int, double>> want, got;
+  for (const auto& s : sp)
+    want.emplace(std::min(s.a, s.b), std::max(s.a, s.b), s.kind,
+                 s.rest_length >= 0.0 ? s.rest_length : (pos.col(s.a) - pos.col(s.b)).norm());
+  for (std::size_t s = 0; s < m.spring_count(); ++s) {
+    EXPECT_LT(m.spring_a[s], m.spring_b[s]);
+    if (s > 0) {
+      EXPECT_GE(m.spring_a[s - 1], m.spring_a[s]);
+    }
+    got.emplace(m.spring_a[s], m.spring_b[s], m.spring_kind[s], m.rest_length0[static_cast<Eigen::Index>(s)]);
+  }
+  EXPECT_EQ(want, got);
+  for (std::size_t i = 0; i < m.mass_count(); ++i) {
+    bool b_end_seen = false;
+    for (std::size_t s = 0; s < m.spring_count(); ++s) {
+      if (m.spring_b[s] == i) b_end_seen = true;
+      if (m.spring_a[s] == i) {
+        EXPECT_FALSE(b_end_seen) << "mass " << i << ", spring " << s;
+      }
+    }
+  }
 }
 
 }  // namespace

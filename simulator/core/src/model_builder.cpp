@@ -1,6 +1,8 @@
 #include <clothsim/model_builder.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 #include <stdexcept>
 
 namespace clothsim {
@@ -43,7 +45,16 @@ std::size_t ModelBuilder::add_cloth(const Eigen::Matrix3Xd& positions,
   const Eigen::Index s0 = model_.rest_length0.size();
   model_.rest_length0.conservativeResize(s0 + static_cast<Eigen::Index>(springs.size()));
   Eigen::Index si = s0;
-  for (const auto& s : springs) {
+  // Each spring from its lower mass (a < b), ordered by that mass, highest first (stable).
+  // Then every mass meets its springs (in index order, the scatter loop's) first as the a end
+  // (its springs to higher masses), then as the b end: the gathered pass adds one run and
+  // subtracts one, with no sign per term (step.cpp). Turning a spring around changes no bit of
+  // its forces (dx and c dx only change sign); the order changes their rounding only.
+  std::vector<SpringSpec> sorted(springs.begin(), springs.end());
+  for (auto& s : sorted)
+    if (s.a > s.b) std::swap(s.a, s.b);
+  std::stable_sort(sorted.begin(), sorted.end(), [](const SpringSpec& p, const SpringSpec& q) { return p.a > q.a; });
+  for (const auto& s : sorted) {
     model_.spring_a.push_back(r.first_mass + s.a);
     model_.spring_b.push_back(r.first_mass + s.b);
     model_.spring_kind.push_back(s.kind);

@@ -364,7 +364,15 @@ __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const Sp
     } else {
       f = _mm256_setr_pd(pf[3 * i], pf[3 * i + 1], pf[3 * i + 2], 0.0);
     }
-    for (std::uint32_t e = start[i], end = start[i + 1]; e < end; ++e) {
+    // A run of a ends (+fs), a run of b ends (-fs: f - y), then any other order term by term
+    // (ModelBuilder orders springs so that there is none).
+    std::uint32_t e = start[i];
+    const std::uint32_t end = start[i + 1];
+    for (; e < end && !(entry[e] & SpringAdjacency::kB); ++e)
+      f = _mm256_add_pd(f, _mm256_load_pd(fs + 4 * std::size_t{entry[e]}));
+    for (; e < end && (entry[e] & SpringAdjacency::kB); ++e)
+      f = _mm256_sub_pd(f, _mm256_load_pd(fs + 4 * std::size_t{entry[e] & ~SpringAdjacency::kB}));
+    for (; e < end; ++e) {
       // +-fs: flip the sign bits for the b end (x + (-y) == x - y exactly)
       const std::uint32_t en = entry[e];
       const __m256d sign = _mm256_load_pd(signs + 4 * (en >> 31));

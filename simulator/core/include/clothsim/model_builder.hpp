@@ -25,6 +25,8 @@ class ModelBuilder {
 
   /// Adds a cloth; positions is (3 x k). Throws std::invalid_argument on a bad index,
   /// a spring joining a mass to itself or a non-finite position. Returns the cloth's index.
+  /// The model keeps the springs turned from their lower mass (spring_a < spring_b) and
+  /// ordered by it, highest first (stable): the order the gathered spring pass adds fastest.
   std::size_t add_cloth(const Eigen::Matrix3Xd& positions, std::span<const SpringSpec> springs,
                         std::span<const std::uint32_t> pins, std::int32_t scene_cloth = -1);
 

@@ -11,8 +11,9 @@ namespace clothsim {
 
 /// Per-mass spring lists (CSR) for the gathered spring forces: the springs of mass i are
 /// entry[start[i] .. start[i+1]), in increasing spring index, so every mass sums its springs
-/// in the seed's scatter order whatever the thread count. An entry is the spring index, with
-/// the top bit set when i is the spring's b end (the force is subtracted). Built once.
+/// in the scatter loop's order whatever the thread count. An entry is the spring index, with
+/// the top bit set when i is the spring's b end (the force is subtracted). Built once. (With
+/// ModelBuilder's spring order every list is a run of a ends, then a run of b ends.)
 struct SpringAdjacency {
   static constexpr std::uint32_t kB = 0x80000000u;  ///< entry flag: i is the b end
   std::vector<std::uint32_t> start;   ///< (n + 1)
