@@ -85,6 +85,10 @@ SpringAdjacency SpringAdjacency::build(const Model& model) {
   std::vector<std::uint32_t> bfill(a.block_start.begin(), a.block_start.end() - 1);
   for (std::size_t s = 0; s < s_count; ++s)
     a.block_springs[bfill[std::min(model.spring_a[s], model.spring_b[s]) / kBlock]++] = static_cast<std::uint32_t>(s);
+  a.blocks_consecutive = true;
+  for (std::size_t b = 0; b < blocks; ++b)
+    for (std::size_t j = a.block_start[b] + 1; j < a.block_start[b + 1]; ++j)
+      if (a.block_springs[j] != a.block_springs[j - 1] + 1) a.blocks_consecutive = false;
   return a;
 }
 
@@ -408,16 +412,21 @@ void gathered_springs(const Model& model, const Eigen::Matrix3Xd& x, const doubl
     // blocks a mass reads were written moments ago (still in L2). Same values, same order.
     const std::size_t blocks = adj.block_start.size() - 1, nm = model.mass_count();
     for (std::size_t b = 0; b < blocks; ++b) {
-      const std::size_t j0 = adj.block_start[b], j1 = adj.block_start[b + 1];
+      std::size_t j0 = adj.block_start[b], j1 = adj.block_start[b + 1];
+      const std::uint32_t* list = adj.block_springs.data();
+      if (adj.blocks_consecutive && j1 > j0) {  // the same springs as a range
+        j1 = adj.block_springs[j0] + (j1 - j0), j0 = adj.block_springs[j0];
+        list = nullptr;
+      }
       const std::size_t i0 = b * SpringAdjacency::kBlock, i1 = std::min(nm, i0 + SpringAdjacency::kBlock);
 #ifdef CLOTHSIM_AVX2
       if (avx2) {
-        spring_pass_avx2(model, px, fs, j0, j1, adj.block_springs.data());
+        spring_pass_avx2(model, px, fs, j0, j1, list);
         mass_pass_avx2(model, adj, fs, pv, pf, i0, i1);
         continue;
       }
 #endif
-      spring_pass_scalar(model, px, fs, j0, j1, adj.block_springs.data());
+      spring_pass_scalar(model, px, fs, j0, j1, list);
       mass_pass_scalar(model, adj, fs, pv, pf, i0, i1);
     }
     return;

@@ -24,6 +24,9 @@ struct SpringAdjacency {
   static constexpr std::size_t kBlock = 1024;
   std::vector<std::uint32_t> block_start;    ///< (blocks + 1)
   std::vector<std::uint32_t> block_springs;  ///< (s)
+  /// Every block's springs are consecutive indices (ModelBuilder's order): then the passes
+  /// take them as a range, without the list.
+  bool blocks_consecutive = false;
   /// Throws std::length_error for more than 2^31 - 1 springs.
   static SpringAdjacency build(const Model& model);
   std::size_t bytes() const {
