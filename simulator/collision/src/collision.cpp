@@ -1103,19 +1103,16 @@ __attribute__((target("avx2"), always_inline)) inline __m128i half(__m256d v, __
   return _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(v), idx));
 }
 
-/// accumulate_impl()'s box test and plane certificate for four consecutive points (x and f:
-/// the first point's coordinates and force, x, y, z per point) and one object (e: the first
+/// accumulate_impl()'s box test and plane certificate for four consecutive points (p: their
+/// x, y, z in lanes; f: the first point's force, x, y, z per point) and one object (e: the first
 /// point's entry, the next ones `stride` entries on), in AVX2 lanes: the same IEEE operations
 /// in the same order as the scalar code (no FMA), so the same bits. Adds the forces of the
 /// pairs it answers to f, and their statistics; returns the lanes (bits) in the object's
 /// reach that it did not answer.
-__attribute__((target("avx2"))) unsigned plane_lanes_avx2(const double* x, const ContactCache::Entry* e,
-                                                         std::size_t stride, const double* lo, const double* hi,
-                                                         double reach_sq, double eps, double k_rep, double* f,
-                                                         PenaltyStats& stats) {
+__attribute__((target("avx2"), always_inline)) inline unsigned plane_lanes_avx2(
+    const __m256d p[3], const ContactCache::Entry* e, std::size_t stride, const double* lo, const double* hi,
+    double reach_sq, double eps, double k_rep, double* f, PenaltyStats& stats) {
   const __m256d zero = _mm256_setzero_pd();
-  __m256d p[3];  // x, y, z of the four points (read from x: a copy just stored would stall)
-  aos_to_lanes(x, p);
   // box_dist_sq(): e = p < lo ? lo - p : (p > hi ? p - hi : 0), summed from 0 in x, y, z order
   __m256d d2 = zero;
   for (int k = 0; k < 3; ++k) {
@@ -1186,6 +1183,52 @@ __attribute__((target("avx2"))) unsigned plane_lanes_avx2(const double* x, const
   }
   stats.certified += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(answered)));
   return static_cast<unsigned>(in_reach & ~answered);
+}
+
+/// accumulate_impl()'s points [i, end) four at a time (x and f: x, y, z per point): whether
+/// all four are finite and near a collider (else point(i + l) for each), then per object
+/// their plane certificates in lanes and pair(i + l, o, p) for the rest, object by object so
+/// that every point adds its objects' forces in the same order. Returns where it stopped.
+template <class Pair, class Point>
+__attribute__((target("avx2"))) std::size_t groups_avx2(const ColliderSet& set, const double* x, double* f,
+                                                        std::size_t i, std::size_t end, ContactCache& cache,
+                                                        const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                                        double reach_sq, double eps, double k_rep, PenaltyStats& stats,
+                                                        Pair& pair, Point& point) {
+  const std::size_t no = set.object_count();
+  const __m256d zero = _mm256_setzero_pd(), limit = _mm256_set1_pd(reach_sq);
+  for (; i + 4 <= end; i += 4) {
+    __m256d p[3];  // x, y, z of the four points
+    aos_to_lanes(x + 3 * i, p);
+    // isfinite(x + y + z) and not box_dist_sq(lo, hi, p) > reach_sq, as point() tests them
+    const __m256d sum = _mm256_add_pd(_mm256_add_pd(p[0], p[1]), p[2]);
+    __m256d d2 = zero;
+    for (int k = 0; k < 3; ++k) {
+      const __m256d l = _mm256_set1_pd(lo[k]), h = _mm256_set1_pd(hi[k]);
+      __m256d ek = _mm256_blendv_pd(zero, _mm256_sub_pd(p[k], h), _mm256_cmp_pd(p[k], h, _CMP_GT_OQ));
+      ek = _mm256_blendv_pd(ek, _mm256_sub_pd(l, p[k]), _mm256_cmp_pd(p[k], l, _CMP_LT_OQ));
+      d2 = _mm256_add_pd(d2, _mm256_mul_pd(ek, ek));
+    }
+    const __m256d usual = _mm256_and_pd(_mm256_cmp_pd(_mm256_sub_pd(sum, sum), zero, _CMP_EQ_OQ),
+                                        _mm256_cmp_pd(d2, limit, _CMP_NGT_UQ));
+    if (_mm256_movemask_pd(usual) != 0xf) [[unlikely]] {
+      for (std::size_t l = 0; l < 4; ++l) point(i + l);
+      continue;
+    }
+    for (std::size_t o = 0; o < no; ++o) {
+      const double *olo, *ohi;
+      if (!detail::PenaltyLoop::box(set, o, olo, ohi)) continue;  // no triangles: out of reach
+      for (unsigned rest = plane_lanes_avx2(p, &cache.entries[i * no + o], no, olo, ohi, reach_sq, eps, k_rep,
+                                            f + 3 * i, stats);
+           rest != 0; rest &= rest - 1) {
+        const auto l = static_cast<std::size_t>(__builtin_ctz(rest));
+        const double* xl = x + 3 * (i + l);
+        const double q[3] = {xl[0], xl[1], xl[2]};
+        pair(i + l, o, q);
+      }
+    }
+  }
+  return i;
 }
 #endif
 
@@ -1305,34 +1348,8 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
   std::size_t i = begin;
 #ifdef CLOTHSIM_AVX2
   if (cache && xs == 3 && fs == 3 && use_avx2()) {
-    // Four points at a time: each object's box and plane certificates for the four in AVX2
-    // (plane_lanes_avx2, the same arithmetic), the other pairs as above, object by object so
-    // that every point adds its objects' forces in the same order.
-    for (; i + 4 <= end; i += 4) {
-      alignas(32) double pg[12];  // x, y, z of the 4 points
-      bool usual = true;          // all 4 finite and near a collider
-      for (std::size_t l = 0; l < 4; ++l) {
-        const double* xi = px + static_cast<Eigen::Index>(i + l) * xs;
-        const double p[3] = {xi[0], xi[1], xi[2]};
-        pg[l] = p[0], pg[4 + l] = p[1], pg[8 + l] = p[2];
-        usual = usual && std::isfinite(p[0] + p[1] + p[2]) && !(box_dist_sq(lo, hi, p) > reach_sq);
-      }
-      if (!usual) [[unlikely]] {
-        for (std::size_t l = 0; l < 4; ++l) point(i + l);
-        continue;
-      }
-      for (std::size_t o = 0; o < no; ++o) {
-        const double *olo, *ohi;
-        if (!detail::PenaltyLoop::box(set, o, olo, ohi)) continue;  // no triangles: out of reach
-        unsigned rest = plane_lanes_avx2(px + static_cast<Eigen::Index>(i) * xs, &cache->entries[i * no + o], no,
-                                         olo, ohi, reach_sq, eps, k_rep, pf + static_cast<Eigen::Index>(i) * fs, stats);
-        for (; rest != 0; rest &= rest - 1) {
-          const auto l = static_cast<std::size_t>(__builtin_ctz(rest));
-          const double p[3] = {pg[l], pg[4 + l], pg[8 + l]};
-          pair(i + l, o, p);
-        }
-      }
-    }
+    // Four points at a time (the same arithmetic, the same bits)
+    i = groups_avx2(set, px, pf, i, end, *cache, lo, hi, reach_sq, eps, k_rep, stats, pair, point);
   }
 #endif
   for (; i < end; ++i) point(i);
