@@ -941,9 +941,10 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
     const bool alone = e.count == 1 || static_cast<double>(cl[1]) - moved - m > d;
     double loser = std::numeric_limits<double>::infinity();  // the other evaluated candidate
     if (!alone) {
-      // The second candidate may be as near (a point over an edge between two triangles):
-      // evaluate it too, when the certificate expects that (settled), else query_cached().
-      if (e.settled < 2) return false;
+      // The second candidate may be as near (a point over an edge between two triangles, or
+      // one whose second triangle is only a little farther): evaluate it too. (Leaving the
+      // second case to query_cached(), which moves the certificate, cost 700 calls per step
+      // while the skirt slid over the sphere: its gap was gone again one step later.)
       const double* t = tri_ptr(cache.slots[ei * cache.candidates() + 1]);
       double s1;
       const double d2b = detail::closest_sq<kBlock>(p, t, s1);
