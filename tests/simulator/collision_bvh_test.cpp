@@ -506,6 +506,45 @@ TEST(CollisionBvh, PlaneCertificatesAtRestAndAcrossEdgesStayBitIdentical) {
   EXPECT_GT(planes_at_rest, in_reach_at_rest * 3 / 4) << planes_at_rest << " of " << in_reach_at_rest;
 }
 
+TEST(CollisionBvh, NoForceCertificatesSeeATriangleThatTurnsItsBackWhenItTies) {
+  // A "fin": a floor triangle pair (normal +y) and a wall along its edge x = 1 (normal +x,
+  // so points over the floor are behind it). Points over the floor farther than eps from it
+  // get "no force" certificates; they then slide along the wall (the wall's bound erodes
+  // until it ties with the floor and is evaluated as the other candidate), then move
+  // towards the wall, which becomes the nearest with the points behind it: tunnelled,
+  // penetration. Every call equals brute force bit for bit.
+  ColliderSet set;
+  Eigen::Matrix3Xd v(3, 6);
+  v << 0.0, 1.0, 1.0, 0.0, 1.0, 1.0,  //
+      0.0, 0.0, 0.0, 0.0, 1.0, 1.0,    //
+      0.0, 0.0, 1.0, 1.0, 0.0, 1.0;
+  // floor (0 1 2) (0 2 3) seen from +y; wall (1 4 5) (1 5 2) seen from +x
+  set.add_object("fin", v, std::vector<std::uint32_t>{0, 2, 1, 0, 3, 2, 1, 4, 5, 1, 5, 2});
+  set.build();
+  const Eigen::Index n = 64;
+  Eigen::Matrix3Xd x(3, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    x.col(i) = Vector3d(0.80 + 0.001 * static_cast<double>(i % 8), 0.13 + 0.002 * static_cast<double>(i / 8), 0.2);
+  clothsim::ContactCache cache;
+  cache.resize(static_cast<std::size_t>(n), 1);
+  std::size_t tunnelled = 0;
+  for (int call = 0; call < 400 && !HasFailure(); ++call) {
+    if (call >= 20 && call < 220) x.row(2).array() += 0.002;  // along the wall
+    if (call >= 220) x.row(0).array() += 0.0005;            // towards it
+    Eigen::Matrix3Xd fb = Eigen::Matrix3Xd::Zero(3, n), fc = fb;
+    PenaltyStats sb, sc;
+    accumulate_penalty(set, x, 0.1, 1000.0, fb, sb, {}, QueryMethod::BruteForce);
+    accumulate_penalty(set, x, 0.1, 1000.0, fc, sc, cache);
+    ASSERT_EQ(std::memcmp(fb.data(), fc.data(), sizeof(double) * static_cast<std::size_t>(fb.size())), 0)
+        << "call " << call;
+    ASSERT_EQ(sb.contacts, sc.contacts) << "call " << call;
+    ASSERT_EQ(sb.tunnelled, sc.tunnelled) << "call " << call;
+    ASSERT_TRUE(same_bits(sb.max_penetration, sc.max_penetration)) << "call " << call;
+    tunnelled += sc.tunnelled;
+  }
+  EXPECT_GT(tunnelled, 0u) << "the points never got behind the wall";
+}
+
 TEST(CollisionBvh, PlaneCertificatesOnBothSidesOfTheSurfaceStayBitIdentical) {
   // The four-at-a-time form of the plane check (AVX2; this test also runs with
   // CLOTHSIM_NO_AVX2=1) on points on both sides of a floor and a sphere: above the band,

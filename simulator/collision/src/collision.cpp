@@ -817,6 +817,34 @@ bool ColliderSet::make_plane(const double p[3], ContactCache& cache,
   return store_plane(pl, cache.epoch, p, r, true);
 }
 
+bool ColliderSet::make_far(const double p[3], ContactCache& cache, std::size_t ei, double d, double s,
+                           std::int32_t next, double loser, double loser_s, double moved, double m,
+                           double band) const {
+  // Within r of p every distance and plane distance changes by at most r. The answer stays
+  // farther than band, and a triangle can become the nearest only if it is now within
+  // d + 2 r: each such one must keep p in front of its plane (s_T > r), or be kept out
+  // (r < (d_T - d) / 2). With the rounding margin m on every figure.
+  double r = std::min(d - band, s) - 2.0 * m;
+  const auto keep = [&](double d_t, double s_t) { r = std::min(r, std::max(s_t, 0.5 * (d_t - d)) - 2.0 * m); };
+  if (loser < std::numeric_limits<double>::infinity()) keep(loser, loser_s);
+  const ContactCache::Entry& e = cache.entries[ei];
+  const std::uint32_t* cs = cache.slots.data() + ei * cache.candidates();
+  const float* cl = cache.lower.data() + ei * cache.candidates();
+  double others = e.others_lb - moved - m;  // every triangle not in the list
+  std::int32_t c = next;
+  for (; c < std::min(e.count, next + 3); ++c) {  // at most 3 more, by their exact figures
+    const double lb = static_cast<double>(cl[c]) - moved - m;
+    if (!(r > 0.0) || lb >= d + 2.0 * (r + m)) break;  // the rest are bounded by lb
+    double s_c;
+    const double d_c = std::sqrt(detail::closest_sq<kBlock>(p, tri_ptr(cs[c]), s_c));
+    keep(d_c - m, s_c);
+  }
+  if (c < e.count) others = std::min(others, static_cast<double>(cl[c]) - moved - m);
+  r = std::min(r, 0.5 * (others - d) - m);
+  if (!(r > 0.0)) return false;
+  return store_plane(cache.entries[ei].plane, cache.epoch, p, r, false);
+}
+
 ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double radius_sq,
                                       QueryMethod method, ContactCache& cache, std::size_t ei,
                                       bool& certified) const {
@@ -904,7 +932,7 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
 
 [[gnu::always_inline]] inline bool ColliderSet::certify_inline(
     std::size_t o, const double p[3], double radius_sq, ContactCache& cache, std::size_t ei,
-    bool& hit, double& signed_distance, double normal[3]) const {
+    bool& hit, double& signed_distance, double normal[3], double band) const {
   ContactCache::Entry& e = cache.entries[ei];
   if (e.count < 0) return false;
   const Object& ob = objects_[o];
@@ -940,6 +968,7 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
     double d = std::sqrt(d2);
     const bool alone = e.count == 1 || static_cast<double>(cl[1]) - moved - m > d;
     double loser = std::numeric_limits<double>::infinity();  // the other evaluated candidate
+    double loser_s = 0.0;                                     // and its plane distance
     if (!alone) {
       // The second candidate may be as near (a point over an edge between two triangles, or
       // one whose second triangle is only a little farther): evaluate it too. (Leaving the
@@ -950,11 +979,11 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
       const double d2b = detail::closest_sq<kBlock>(p, t, s1);
       const std::int32_t idx1 = orig_[cache.slots[ei * cache.candidates() + 1]];
       if (d2b <= radius_sq && better(d2b, idx1, d2, e.tri_index)) {
-        loser = d;
+        loser = d, loser_s = s;
         d2 = d2b, s = s1, n = t + 9 * kBlock, stride = kBlock;
         d = std::sqrt(d2);
       } else {
-        loser = std::sqrt(d2b);
+        loser = std::sqrt(d2b), loser_s = s1;
       }
       if (e.count > 2 && !(static_cast<double>(cl[2]) - moved - m > d)) return false;
     }
@@ -963,8 +992,10 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
     hit = true;
     signed_distance = detail::signed_from(d, s);
     normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
-    // The next calls can take the plane certificate (the loser: the other evaluated one).
+    // The next calls can take a plane certificate (the loser: the other evaluated one): "no
+    // force" beyond the band (which holds over edges too), else this face.
     if (plane_due(cache, e, cache.entries[ei].plane) &&
+        !(d > band && make_far(p, cache, ei, d, s, alone ? 1 : 2, loser, loser_s, moved, m, band)) &&
         !make_plane(p, cache, ei, n - 9 * stride, stride, d, s, alone ? 1 : 2, loser, moved, m,
                     reach))
       plane_failed(e);
@@ -976,7 +1007,8 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
 bool ColliderSet::certify_fast(std::size_t o, const double p[3], double radius_sq,
                                ContactCache& cache, std::size_t ei, bool& hit,
                                double& signed_distance, double normal[3]) const {
-  return certify_inline(o, p, radius_sq, cache, ei, hit, signed_distance, normal);
+  return certify_inline(o, p, radius_sq, cache, ei, hit, signed_distance, normal,
+                        std::numeric_limits<double>::infinity());
 }
 
 namespace detail {
@@ -990,8 +1022,8 @@ struct PenaltyLoop {
   }
   static bool certify(const ColliderSet& set, std::size_t o, const double p[3], double radius_sq,
                       ContactCache& cache, std::size_t ei, bool& hit, double& signed_distance,
-                      double normal[3]) {
-    return set.certify_inline(o, p, radius_sq, cache, ei, hit, signed_distance, normal);
+                      double normal[3], double band) {
+    return set.certify_inline(o, p, radius_sq, cache, ei, hit, signed_distance, normal, band);
   }
 };
 }  // namespace detail
@@ -1324,7 +1356,7 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
     }
     bool hit = false;
     double d = 0.0, nrm[3];
-    if (cache && detail::PenaltyLoop::certify(set, o, p, reach_sq, *cache, i * no + o, hit, d, nrm))
+    if (cache && detail::PenaltyLoop::certify(set, o, p, reach_sq, *cache, i * no + o, hit, d, nrm, eps))
         [[likely]] {
       ++stats.certified;
       if (hit) respond(pf + static_cast<Eigen::Index>(i) * fs, d, nrm);

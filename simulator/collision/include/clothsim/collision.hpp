@@ -288,9 +288,20 @@ struct ColliderSet {
   // each block a small structure of arrays (12 components x 4 slots, 384 bytes).
   std::vector<double> tri_;
   friend struct detail::PenaltyLoop;
-  /// certify_fast(), inlined into accumulate_penalty()'s per-point loop.
+  /// certify_fast(), inlined into accumulate_penalty()'s per-point loop. `band` is the
+  /// penalty band eps of that loop (infinity elsewhere): see make_far().
   bool certify_inline(std::size_t o, const double p[3], double radius_sq, ContactCache& cache,
-                      std::size_t ei, bool& hit, double& signed_distance, double normal[3]) const;
+                      std::size_t ei, bool& hit, double& signed_distance, double normal[3],
+                      double band) const;
+  /// certify_inline()'s "no force" certificate for entry ei, stored as a plane certificate
+  /// with nothing to answer (r2 < 0), for a point whose answer lies farther than `band` on
+  /// its triangle's front side: within its radius every triangle that can be the nearest
+  /// stays farther than band with the point in front of its plane, so the penalty loop adds
+  /// nothing and counts nothing, as for a point out of reach. d, s: the answer's distance and
+  /// plane distance; loser, loser_s: the nearest other evaluated candidate's (or infinity).
+  [[gnu::noinline]] bool make_far(const double p[3], ContactCache& cache, std::size_t ei, double d,
+                                  double s, std::int32_t next, double loser, double loser_s,
+                                  double moved, double m, double band) const;
   /// certify_inline()'s plane certificate for entry ei (ContactCache::Plane), kept out of line;
   /// false when none can be made here.
   [[gnu::noinline]] bool make_plane(const double p[3], ContactCache& cache,
