@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <set>
 #include <stdexcept>
 #include <tuple>
@@ -307,6 +308,35 @@ TEST(Builder, ConcatenatesClothsWithGlobalIndices) {
   EXPECT_EQ(m.pinned[5], 1);
   EXPECT_EQ(m.inv_mass[5], 0.0);
   EXPECT_DOUBLE_EQ(m.inv_mass[4], 10.0);
+}
+
+// step() reports a state with one NaN or infinite coordinate or velocity, wherever it is
+// (the first or last value, inside a vector block or its tail, any slice) and on any thread
+// count; a finite state is finite however large its values (no sum that overflows).
+TEST(Step, FiniteCheckFindsOneNonFiniteValueAnywhere) {
+  const Eigen::Index n = 5001;  // above the threaded check's 4096 values, and 3 n % 4 != 0
+  Eigen::Matrix3Xd pos(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) pos.col(i) = Eigen::Vector3d(0.01 * static_cast<double>(i), 1.0, 0.0);
+  ModelBuilder mb(Options{});
+  mb.add_cloth(pos, {}, {});
+  const Model m = mb.build();
+  for (int threads : {1, 2}) {
+    set_threads(threads);
+    for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                             -std::numeric_limits<double>::infinity()})
+      for (const Eigen::Index at : {Eigen::Index{0}, Eigen::Index{5}, Eigen::Index{7503}, 3 * n - 2, 3 * n - 1})
+        for (const bool in_x : {true, false}) {
+          State s = make_state(m);
+          Workspace ws = make_workspace(m);
+          (in_x ? s.x : s.v).data()[at] = bad;
+          EXPECT_FALSE(step(m, s, ws).finite) << threads << " threads, " << bad << " at " << at << (in_x ? " in x" : " in v");
+        }
+    State s = make_state(m);
+    s.x.setConstant(1e305);  // their sum would overflow
+    Workspace ws = make_workspace(m);
+    EXPECT_TRUE(step(m, s, ws).finite) << threads << " threads";
+  }
+  set_threads(1);
 }
 
 // The builder turns every spring from its lower mass and orders them by it, highest first,
