@@ -312,13 +312,15 @@ TEST(Builder, ConcatenatesClothsWithGlobalIndices) {
 
 // step() reports a state with one NaN or infinite coordinate or velocity, wherever it is
 // (the first or last value, inside a vector block or its tail, any slice) and on any thread
-// count; a finite state is finite however large its values (no sum that overflows).
+// count; a finite state is finite however large its values (no sum that overflows). A pinned
+// mass ends a step where it was with velocity 0, so only its position counts.
 TEST(Step, FiniteCheckFindsOneNonFiniteValueAnywhere) {
-  const Eigen::Index n = 5001;  // above the threaded check's 4096 values, and 3 n % 4 != 0
+  const Eigen::Index n = 5002;  // above the threaded check's 4096 values; 4 masses a block: 2 left over
   Eigen::Matrix3Xd pos(3, n);
   for (Eigen::Index i = 0; i < n; ++i) pos.col(i) = Eigen::Vector3d(0.01 * static_cast<double>(i), 1.0, 0.0);
   ModelBuilder mb(Options{});
-  mb.add_cloth(pos, {}, {});
+  const std::uint32_t pins[] = {2, static_cast<std::uint32_t>(n - 2)};  // in a block, left over
+  mb.add_cloth(pos, {}, pins);
   const Model m = mb.build();
   for (int threads : {1, 2}) {
     set_threads(threads);
@@ -331,6 +333,15 @@ TEST(Step, FiniteCheckFindsOneNonFiniteValueAnywhere) {
           (in_x ? s.x : s.v).data()[at] = bad;
           EXPECT_FALSE(step(m, s, ws).finite) << threads << " threads, " << bad << " at " << at << (in_x ? " in x" : " in v");
         }
+    for (const Eigen::Index pin : {Eigen::Index{2}, n - 2}) {
+      State s = make_state(m);
+      Workspace ws = make_workspace(m);
+      s.v(1, pin) = std::numeric_limits<double>::quiet_NaN();  // a pinned mass's velocity is set to 0
+      EXPECT_TRUE(step(m, s, ws).finite) << threads << " threads, pin " << pin;
+      EXPECT_EQ(s.v(1, pin), 0.0);
+      s.x(1, pin) = std::numeric_limits<double>::infinity();  // its position is kept
+      EXPECT_FALSE(step(m, s, ws).finite) << threads << " threads, pin " << pin;
+    }
     State s = make_state(m);
     s.x.setConstant(1e305);  // their sum would overflow
     Workspace ws = make_workspace(m);

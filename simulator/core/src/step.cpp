@@ -585,19 +585,23 @@ __attribute__((target("avx2"))) std::size_t finite_prefix_avx2(const double* p, 
 // ones, that is when (bits & E) + 2^52 carries into bit 63. Integer operations: no sum that
 // could overflow, and the same answer in any order, on any thread count, with or without AVX2.
 constexpr std::uint64_t kExpBits = 0x7ff0000000000000ull, kExpOne = std::uint64_t{1} << 52;
-bool finite_span(const double* p, std::size_t n) {
-  std::size_t i = 0;
-#ifdef CLOTHSIM_AVX2
-  if (use_avx2()) i = finite_prefix_avx2(p, n);
-  if (i == std::numeric_limits<std::size_t>::max()) return false;
-#endif
+bool finite_span_plain(const double* p, std::size_t n) {
   std::uint64_t any = 0;
-  for (; i < n; ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     std::uint64_t b;
     std::memcpy(&b, p + i, sizeof b);
     any |= (b & kExpBits) + kExpOne;
   }
   return (any >> 63) == 0;
+}
+bool finite_span(const double* p, std::size_t n) {
+#ifdef CLOTHSIM_AVX2
+  if (use_avx2()) {
+    const std::size_t i = finite_prefix_avx2(p, n);
+    return i != std::numeric_limits<std::size_t>::max() && finite_span_plain(p + i, n - i);
+  }
+#endif
+  return finite_span_plain(p, n);
 }
 
 bool all_finite(const State& s) {
@@ -638,36 +642,87 @@ namespace {
 #ifdef CLOTHSIM_AVX2
 // The two updates of eqs. 1 and 6-7 in AVX2 for one thread: the same operations per element
 // (h * v, then +; f * (1/m), then h *, then +), so the same bits.
-__attribute__((target("avx2"))) void drift_avx2(double* x, const double* v, double h, std::size_t count) {
-  const __m256d hv = _mm256_set1_pd(h);
-  std::size_t e = 0;
-  for (; e + 4 <= count; e += 4)
-    _mm256_storeu_pd(x + e, _mm256_add_pd(_mm256_loadu_pd(x + e), _mm256_mul_pd(hv, _mm256_loadu_pd(v + e))));
-  for (; e < count; ++e) x[e] += h * v[e];
+// Masses i .. i + 3 pinned (pinned[] != 0), spread over their 12 elements as kick_avx2 spreads 1/m.
+__attribute__((target("avx2"), always_inline)) inline void pinned_lanes(const std::uint8_t* pinned, std::size_t i,
+                                                                        __m256d out[3]) {
+  std::uint32_t four;
+  std::memcpy(&four, pinned + i, sizeof four);
+  const __m256d p = _mm256_castsi256_pd(_mm256_xor_si256(
+      _mm256_cmpeq_epi64(_mm256_cvtepu8_epi64(_mm_cvtsi32_si128(static_cast<int>(four))), _mm256_setzero_si256()),
+      _mm256_set1_epi64x(-1)));
+  out[0] = _mm256_permute4x64_pd(p, 0b01000000), out[1] = _mm256_permute4x64_pd(p, 0b10100101);
+  out[2] = _mm256_permute4x64_pd(p, 0b11111110);
 }
-__attribute__((target("avx2"))) void kick_avx2(double* v, const double* f, const double* im, double h,
-                                               std::size_t n) {
+
+__attribute__((target("avx2"))) bool drift_avx2(double* x, const double* v, const std::uint8_t* pinned, double h,
+                                                std::size_t n) {
+  // ... and whether every new x of a free mass is finite (a pinned one's is put back after the
+  // step)
   const __m256d hv = _mm256_set1_pd(h);
+  const __m256i e = _mm256_set1_epi64x(static_cast<long long>(kExpBits)), one = _mm256_set1_epi64x(static_cast<long long>(kExpOne));
+  __m256i any = _mm256_setzero_si256();
+  std::size_t i = 0;
+  for (; i + 4 <= n; i += 4) {  // 4 masses, 12 elements
+    __m256d pin[3];
+    pinned_lanes(pinned, i, pin);
+    for (std::size_t k = 0; k < 3; ++k) {
+      double* px = x + 3 * i + 4 * k;
+      const __m256d nx = _mm256_add_pd(_mm256_loadu_pd(px), _mm256_mul_pd(hv, _mm256_loadu_pd(v + 3 * i + 4 * k)));
+      _mm256_storeu_pd(px, nx);
+      const __m256i t = _mm256_add_epi64(_mm256_and_si256(_mm256_castpd_si256(nx), e), one);
+      any = _mm256_or_si256(any, _mm256_andnot_si256(_mm256_castpd_si256(pin[k]), t));
+    }
+  }
+  bool ok = _mm256_movemask_pd(_mm256_castsi256_pd(any)) == 0;
+  for (; i < n; ++i)
+    for (std::size_t r = 0; r < 3; ++r) {
+      x[3 * i + r] += h * v[3 * i + r];
+      if (!pinned[i] && !finite_span_plain(x + 3 * i + r, 1)) ok = false;
+    }
+  return ok;
+}
+__attribute__((target("avx2"))) bool kick_avx2(double* v, const double* f, const double* im,
+                                               const std::uint8_t* pinned, double h, std::size_t n) {
+  // ... and whether every new v of a free mass is finite (a pinned one's is set to 0 after the
+  // step)
+  const __m256d hv = _mm256_set1_pd(h);
+  const __m256i e = _mm256_set1_epi64x(static_cast<long long>(kExpBits)), one = _mm256_set1_epi64x(static_cast<long long>(kExpOne));
+  __m256i any = _mm256_setzero_si256();
   std::size_t i = 0;
   for (; i + 4 <= n; i += 4) {  // 4 masses, 12 elements: 1/m as m0 m0 m0 m1 | m1 m1 m2 m2 | m2 m3 m3 m3
     const __m256d m = _mm256_loadu_pd(im + i);
     const __m256d w[3] = {_mm256_permute4x64_pd(m, 0b01000000), _mm256_permute4x64_pd(m, 0b10100101),
                           _mm256_permute4x64_pd(m, 0b11111110)};
+    __m256d pin[3];
+    pinned_lanes(pinned, i, pin);
     for (std::size_t k = 0; k < 3; ++k) {
       double* pv = v + 3 * i + 4 * k;
-      _mm256_storeu_pd(pv, _mm256_add_pd(_mm256_loadu_pd(pv),
-                                         _mm256_mul_pd(hv, _mm256_mul_pd(_mm256_loadu_pd(f + 3 * i + 4 * k), w[k]))));
+      const __m256d nv = _mm256_add_pd(_mm256_loadu_pd(pv),
+                                       _mm256_mul_pd(hv, _mm256_mul_pd(_mm256_loadu_pd(f + 3 * i + 4 * k), w[k])));
+      _mm256_storeu_pd(pv, nv);
+      const __m256i t = _mm256_add_epi64(_mm256_and_si256(_mm256_castpd_si256(nv), e), one);
+      any = _mm256_or_si256(any, _mm256_andnot_si256(_mm256_castpd_si256(pin[k]), t));
     }
   }
+  bool ok = _mm256_movemask_pd(_mm256_castsi256_pd(any)) == 0;
   for (; i < n; ++i)
-    for (std::size_t r = 0; r < 3; ++r) v[3 * i + r] += h * (f[3 * i + r] * im[i]);
+    for (std::size_t r = 0; r < 3; ++r) {
+      v[3 * i + r] += h * (f[3 * i + r] * im[i]);
+      if (!pinned[i] && !finite_span_plain(v + 3 * i + r, 1)) ok = false;
+    }
+  return ok;
 }
 #endif
 
 }  // namespace
 
-void step_symplectic_euler(const Model& model, State& state, Workspace& ws) {
+namespace {
+
+// One step of eqs. 1-7; on one thread with AVX2 it also tells whether the new state is finite
+// (checked: true), as all_finite() would after it, from the values it writes.
+void symplectic_euler(const Model& model, State& state, Workspace& ws, bool& checked, bool& finite) {
   const double h = model.options.dt;
+  checked = false;
   save_pins(state, ws);
   const auto n = static_cast<std::int64_t>(model.mass_count());
   double* px = state.x.data();
@@ -677,7 +732,9 @@ void step_symplectic_euler(const Model& model, State& state, Workspace& ws) {
   [[maybe_unused]] const int nt = team(static_cast<std::size_t>(n));
 #ifdef CLOTHSIM_AVX2
   const bool one_avx2 = nt <= 1 && use_avx2();
-  if (one_avx2) drift_avx2(px, pv, h, 3 * static_cast<std::size_t>(n));
+  bool x_ok = true;
+  const std::uint8_t* pinned = model.pinned.data();
+  if (one_avx2) x_ok = drift_avx2(px, pv, pinned, h, static_cast<std::size_t>(n));
   else
 #endif
   {
@@ -687,8 +744,11 @@ void step_symplectic_euler(const Model& model, State& state, Workspace& ws) {
   compute_forces(model, state.x, state.v, ws.f, ws);  // eqs. 2-5 at x(t+h)
   // eqs. 6-7 (damping is in f): v += h (f / m), as h * (f * (1/m))
 #ifdef CLOTHSIM_AVX2
-  if (one_avx2) kick_avx2(pv, pf, im, h, static_cast<std::size_t>(n));
-  else
+  if (one_avx2) {
+    const bool v_ok = kick_avx2(pv, pf, im, pinned, h, static_cast<std::size_t>(n));
+    // the pinned masses end with their saved positions and velocity 0
+    checked = true, finite = x_ok && v_ok && finite_span(ws.pinned_x.data(), static_cast<std::size_t>(ws.pinned_x.size()));
+  } else
 #endif
   {
 #pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
@@ -698,11 +758,19 @@ void step_symplectic_euler(const Model& model, State& state, Workspace& ws) {
   restore_pins(state, ws);
 }
 
+}  // namespace
+
+void step_symplectic_euler(const Model& model, State& state, Workspace& ws) {
+  bool checked = false, finite = true;
+  symplectic_euler(model, state, ws, checked, finite);
+}
+
 StepStatus step(const Model& model, State& state, Workspace& ws) {
   ws.drag = state.drag;
+  bool checked = false, finite = true;
   switch (model.options.integrator) {
     case Integrator::SymplecticEuler:
-      step_symplectic_euler(model, state, ws);
+      symplectic_euler(model, state, ws, checked, finite);
       break;
     default:  // the other integrators (integrators.cpp, issue 5)
       integrate(model, state, ws);
@@ -711,7 +779,7 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
   state.t += model.options.dt;
   ++state.steps;
   state.max_penetration = std::max(state.max_penetration, ws.last_penetration);
-  return StepStatus{all_finite(state)};
+  return StepStatus{checked ? finite : all_finite(state)};
 }
 
 double kinetic_energy(const Model& model, const State& state) {
