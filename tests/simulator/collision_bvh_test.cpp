@@ -506,6 +506,24 @@ TEST(CollisionBvh, PlaneCertificatesAtRestAndAcrossEdgesStayBitIdentical) {
   EXPECT_GT(planes_at_rest, in_reach_at_rest * 3 / 4) << planes_at_rest << " of " << in_reach_at_rest;
 }
 
+// accumulate_penalty() through `cache` against brute force (eps 0.1, k_rep 1000): forces bit
+// for bit (from -0.0, so that a stray +0 shows), contacts, tunnelled, deepest penetration.
+::testing::AssertionResult cache_matches_brute_force(const ColliderSet& set, const Eigen::Matrix3Xd& x,
+                                                     clothsim::ContactCache& cache, PenaltyStats& sc) {
+  Eigen::Matrix3Xd fb = Eigen::Matrix3Xd::Constant(3, x.cols(), -0.0), fc = fb;
+  PenaltyStats sb;
+  accumulate_penalty(set, x, 0.1, 1000.0, fb, sb, {}, QueryMethod::BruteForce);
+  accumulate_penalty(set, x, 0.1, 1000.0, fc, sc, cache);
+  if (std::memcmp(fb.data(), fc.data(), sizeof(double) * static_cast<std::size_t>(fb.size())) != 0)
+    return ::testing::AssertionFailure() << "forces differ";
+  if (sb.contacts != sc.contacts || sb.tunnelled != sc.tunnelled)
+    return ::testing::AssertionFailure() << "contacts " << sb.contacts << " / " << sc.contacts << ", tunnelled "
+                                         << sb.tunnelled << " / " << sc.tunnelled;
+  if (!same_bits(sb.max_penetration, sc.max_penetration))
+    return ::testing::AssertionFailure() << "deepest " << sb.max_penetration << " / " << sc.max_penetration;
+  return ::testing::AssertionSuccess();
+}
+
 TEST(CollisionBvh, NoForceCertificatesSeeATriangleThatTurnsItsBackWhenItTies) {
   // A "fin": a floor triangle pair (normal +y) and a wall along its edge x = 1 (normal +x,
   // so points over the floor are behind it). Points over the floor farther than eps from it
@@ -531,15 +549,8 @@ TEST(CollisionBvh, NoForceCertificatesSeeATriangleThatTurnsItsBackWhenItTies) {
   for (int call = 0; call < 400 && !HasFailure(); ++call) {
     if (call >= 20 && call < 220) x.row(2).array() += 0.002;  // along the wall
     if (call >= 220) x.row(0).array() += 0.0005;            // towards it
-    Eigen::Matrix3Xd fb = Eigen::Matrix3Xd::Zero(3, n), fc = fb;
-    PenaltyStats sb, sc;
-    accumulate_penalty(set, x, 0.1, 1000.0, fb, sb, {}, QueryMethod::BruteForce);
-    accumulate_penalty(set, x, 0.1, 1000.0, fc, sc, cache);
-    ASSERT_EQ(std::memcmp(fb.data(), fc.data(), sizeof(double) * static_cast<std::size_t>(fb.size())), 0)
-        << "call " << call;
-    ASSERT_EQ(sb.contacts, sc.contacts) << "call " << call;
-    ASSERT_EQ(sb.tunnelled, sc.tunnelled) << "call " << call;
-    ASSERT_TRUE(same_bits(sb.max_penetration, sc.max_penetration)) << "call " << call;
+    PenaltyStats sc;
+    ASSERT_TRUE(cache_matches_brute_force(set, x, cache, sc)) << "call " << call;
     tunnelled += sc.tunnelled;
   }
   EXPECT_GT(tunnelled, 0u) << "the points never got behind the wall";
@@ -586,16 +597,8 @@ TEST(CollisionBvh, PlaneCertificatesOnBothSidesOfTheSurfaceStayBitIdentical) {
     cache.resize(static_cast<std::size_t>(pts.cols()), set.object_count());
     for (int call = 0; call < 80 && !HasFailure(); ++call) {
       if (call >= 40) pts += 2e-5 * vel.leftCols(pts.cols());
-      Eigen::Matrix3Xd fb = Eigen::Matrix3Xd::Constant(3, pts.cols(), -0.0), fc = fb;  // -0.0: a stray +0 shows
-      PenaltyStats sb, sc;
-      accumulate_penalty(set, pts, 0.1, 1000.0, fb, sb, {}, QueryMethod::BruteForce);
-      accumulate_penalty(set, pts, 0.1, 1000.0, fc, sc, cache);
-      ASSERT_EQ(std::memcmp(fb.data(), fc.data(), sizeof(double) * static_cast<std::size_t>(fb.size())), 0)
-          << "call " << call;
-      ASSERT_EQ(sb.contacts, sc.contacts) << "call " << call;
-      ASSERT_EQ(sb.tunnelled, sc.tunnelled) << "call " << call;
-      ASSERT_TRUE(same_bits(sb.max_penetration, sc.max_penetration))
-          << "call " << call << ": " << sb.max_penetration << " " << sc.max_penetration;
+      PenaltyStats sc;
+      ASSERT_TRUE(cache_matches_brute_force(set, pts, cache, sc)) << "call " << call;
       contacts = sc.contacts, tunnelled = sc.tunnelled, certified = sc.certified;
     }
   };

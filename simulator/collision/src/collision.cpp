@@ -1131,6 +1131,21 @@ __attribute__((target("avx2"), always_inline)) inline void lanes_to_aos(const __
   _mm256_storeu_pd(a + 8, _mm256_permute2f128_pd(zx, yz, 0x31));
 }
 
+// box_dist_sq() in lanes: e = p < lo ? lo - p : (p > hi ? p - hi : 0), summed from 0 in x, y,
+// z order (the same operations).
+__attribute__((target("avx2"), always_inline)) inline __m256d box_dist_sq_lanes(const __m256d p[3], const double* lo,
+                                                                              const double* hi) {
+  const __m256d zero = _mm256_setzero_pd();
+  __m256d d2 = zero;
+  for (int k = 0; k < 3; ++k) {
+    const __m256d l = _mm256_set1_pd(lo[k]), h = _mm256_set1_pd(hi[k]);
+    __m256d ek = _mm256_blendv_pd(zero, _mm256_sub_pd(p[k], h), _mm256_cmp_pd(p[k], h, _CMP_GT_OQ));
+    ek = _mm256_blendv_pd(ek, _mm256_sub_pd(l, p[k]), _mm256_cmp_pd(p[k], l, _CMP_LT_OQ));
+    d2 = _mm256_add_pd(d2, _mm256_mul_pd(ek, ek));
+  }
+  return d2;
+}
+
 // The 32-bit halves idx[0..3] of v.
 __attribute__((target("avx2"), always_inline)) inline __m128i half(__m256d v, __m256i idx) {
   return _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(v), idx));
@@ -1146,15 +1161,8 @@ __attribute__((target("avx2"), always_inline)) inline unsigned plane_lanes_avx2(
     const __m256d p[3], const ContactCache::Entry* e, std::size_t stride, const double* lo, const double* hi,
     double reach_sq, double eps, double k_rep, double* f, PenaltyStats& stats) {
   const __m256d zero = _mm256_setzero_pd();
-  // box_dist_sq(): e = p < lo ? lo - p : (p > hi ? p - hi : 0), summed from 0 in x, y, z order
-  __m256d d2 = zero;
-  for (int k = 0; k < 3; ++k) {
-    const __m256d l = _mm256_set1_pd(lo[k]), h = _mm256_set1_pd(hi[k]);
-    __m256d ek = _mm256_blendv_pd(zero, _mm256_sub_pd(p[k], h), _mm256_cmp_pd(p[k], h, _CMP_GT_OQ));
-    ek = _mm256_blendv_pd(ek, _mm256_sub_pd(l, p[k]), _mm256_cmp_pd(p[k], l, _CMP_LT_OQ));
-    d2 = _mm256_add_pd(d2, _mm256_mul_pd(ek, ek));
-  }
-  const __m256d reach = _mm256_cmp_pd(d2, _mm256_set1_pd(reach_sq), _CMP_NGT_UQ);  // not out_of_reach()
+  const __m256d reach =  // not out_of_reach()
+      _mm256_cmp_pd(box_dist_sq_lanes(p, lo, hi), _mm256_set1_pd(reach_sq), _CMP_NGT_UQ);
   const int in_reach = _mm256_movemask_pd(reach);
   if (in_reach == 0) return 0;
   // The four planes (64 bytes each: a, n, x0 as floats, r2 and born), transposed to lanes.
@@ -1235,15 +1243,8 @@ __attribute__((target("avx2"))) std::size_t groups_avx2(const ColliderSet& set, 
     aos_to_lanes(x + 3 * i, p);
     // isfinite(x + y + z) and not box_dist_sq(lo, hi, p) > reach_sq, as point() tests them
     const __m256d sum = _mm256_add_pd(_mm256_add_pd(p[0], p[1]), p[2]);
-    __m256d d2 = zero;
-    for (int k = 0; k < 3; ++k) {
-      const __m256d l = _mm256_set1_pd(lo[k]), h = _mm256_set1_pd(hi[k]);
-      __m256d ek = _mm256_blendv_pd(zero, _mm256_sub_pd(p[k], h), _mm256_cmp_pd(p[k], h, _CMP_GT_OQ));
-      ek = _mm256_blendv_pd(ek, _mm256_sub_pd(l, p[k]), _mm256_cmp_pd(p[k], l, _CMP_LT_OQ));
-      d2 = _mm256_add_pd(d2, _mm256_mul_pd(ek, ek));
-    }
     const __m256d usual = _mm256_and_pd(_mm256_cmp_pd(_mm256_sub_pd(sum, sum), zero, _CMP_EQ_OQ),
-                                        _mm256_cmp_pd(d2, limit, _CMP_NGT_UQ));
+                                        _mm256_cmp_pd(box_dist_sq_lanes(p, lo.data(), hi.data()), limit, _CMP_NGT_UQ));
     if (_mm256_movemask_pd(usual) != 0xf) [[unlikely]] {
       for (std::size_t l = 0; l < 4; ++l) point(i + l);
       continue;

@@ -565,18 +565,21 @@ void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::
 
 namespace {
 
+constexpr std::uint64_t kExpBits = 0x7ff0000000000000ull, kExpOne = std::uint64_t{1} << 52;
+
 #ifdef CLOTHSIM_AVX2
+// finite_span()'s test on 4 values: bit 63 of a lane is set when its value is NaN or infinite.
+__attribute__((target("avx2"), always_inline)) inline __m256i nonfinite_lanes(__m256d v) {
+  return _mm256_add_epi64(_mm256_and_si256(_mm256_castpd_si256(v), _mm256_set1_epi64x(static_cast<long long>(kExpBits))),
+                          _mm256_set1_epi64x(static_cast<long long>(kExpOne)));
+}
+
 // finite_span()'s test on the first n - n % 4 values in AVX2: that count, or SIZE_MAX when one
 // of them is not finite.
 __attribute__((target("avx2"))) std::size_t finite_prefix_avx2(const double* p, std::size_t n) {
-  const __m256i e = _mm256_set1_epi64x(static_cast<long long>(0x7ff0000000000000ull)),
-                one = _mm256_set1_epi64x(static_cast<long long>(std::uint64_t{1} << 52));
   __m256i any = _mm256_setzero_si256();
   std::size_t i = 0;
-  for (; i + 4 <= n; i += 4) {
-    const __m256i b = _mm256_castpd_si256(_mm256_loadu_pd(p + i));
-    any = _mm256_or_si256(any, _mm256_add_epi64(_mm256_and_si256(b, e), one));
-  }
+  for (; i + 4 <= n; i += 4) any = _mm256_or_si256(any, nonfinite_lanes(_mm256_loadu_pd(p + i)));
   return _mm256_movemask_pd(_mm256_castsi256_pd(any)) != 0 ? std::numeric_limits<std::size_t>::max() : i;
 }
 #endif
@@ -584,7 +587,6 @@ __attribute__((target("avx2"))) std::size_t finite_prefix_avx2(const double* p, 
 // Whether p[0 .. n) are all finite: a double is NaN or infinite when its exponent bits are all
 // ones, that is when (bits & E) + 2^52 carries into bit 63. Integer operations: no sum that
 // could overflow, and the same answer in any order, on any thread count, with or without AVX2.
-constexpr std::uint64_t kExpBits = 0x7ff0000000000000ull, kExpOne = std::uint64_t{1} << 52;
 bool finite_span_plain(const double* p, std::size_t n) {
   std::uint64_t any = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -642,16 +644,22 @@ namespace {
 #ifdef CLOTHSIM_AVX2
 // The two updates of eqs. 1 and 6-7 in AVX2 for one thread: the same operations per element
 // (h * v, then +; f * (1/m), then h *, then +), so the same bits.
-// Masses i .. i + 3 pinned (pinned[] != 0), spread over their 12 elements as kick_avx2 spreads 1/m.
+// Four masses' values (lanes 0-3) spread over their 12 elements: m0 m0 m0 m1 | m1 m1 m2 m2 |
+// m2 m3 m3 m3.
+__attribute__((target("avx2"), always_inline)) inline void spread3(__m256d m, __m256d out[3]) {
+  out[0] = _mm256_permute4x64_pd(m, 0b01000000), out[1] = _mm256_permute4x64_pd(m, 0b10100101);
+  out[2] = _mm256_permute4x64_pd(m, 0b11111110);
+}
+
+// Masses i .. i + 3 pinned (pinned[] != 0), all-ones lanes, spread over their 12 elements.
 __attribute__((target("avx2"), always_inline)) inline void pinned_lanes(const std::uint8_t* pinned, std::size_t i,
                                                                         __m256d out[3]) {
   std::uint32_t four;
   std::memcpy(&four, pinned + i, sizeof four);
-  const __m256d p = _mm256_castsi256_pd(_mm256_xor_si256(
-      _mm256_cmpeq_epi64(_mm256_cvtepu8_epi64(_mm_cvtsi32_si128(static_cast<int>(four))), _mm256_setzero_si256()),
-      _mm256_set1_epi64x(-1)));
-  out[0] = _mm256_permute4x64_pd(p, 0b01000000), out[1] = _mm256_permute4x64_pd(p, 0b10100101);
-  out[2] = _mm256_permute4x64_pd(p, 0b11111110);
+  spread3(_mm256_castsi256_pd(_mm256_xor_si256(
+              _mm256_cmpeq_epi64(_mm256_cvtepu8_epi64(_mm_cvtsi32_si128(static_cast<int>(four))), _mm256_setzero_si256()),
+              _mm256_set1_epi64x(-1))),
+          out);
 }
 
 __attribute__((target("avx2"))) bool drift_avx2(double* x, const double* v, const std::uint8_t* pinned, double h,
@@ -659,7 +667,6 @@ __attribute__((target("avx2"))) bool drift_avx2(double* x, const double* v, cons
   // ... and whether every new x of a free mass is finite (a pinned one's is put back after the
   // step)
   const __m256d hv = _mm256_set1_pd(h);
-  const __m256i e = _mm256_set1_epi64x(static_cast<long long>(kExpBits)), one = _mm256_set1_epi64x(static_cast<long long>(kExpOne));
   __m256i any = _mm256_setzero_si256();
   std::size_t i = 0;
   for (; i + 4 <= n; i += 4) {  // 4 masses, 12 elements
@@ -669,8 +676,7 @@ __attribute__((target("avx2"))) bool drift_avx2(double* x, const double* v, cons
       double* px = x + 3 * i + 4 * k;
       const __m256d nx = _mm256_add_pd(_mm256_loadu_pd(px), _mm256_mul_pd(hv, _mm256_loadu_pd(v + 3 * i + 4 * k)));
       _mm256_storeu_pd(px, nx);
-      const __m256i t = _mm256_add_epi64(_mm256_and_si256(_mm256_castpd_si256(nx), e), one);
-      any = _mm256_or_si256(any, _mm256_andnot_si256(_mm256_castpd_si256(pin[k]), t));
+      any = _mm256_or_si256(any, _mm256_andnot_si256(_mm256_castpd_si256(pin[k]), nonfinite_lanes(nx)));
     }
   }
   bool ok = _mm256_movemask_pd(_mm256_castsi256_pd(any)) == 0;
@@ -686,22 +692,18 @@ __attribute__((target("avx2"))) bool kick_avx2(double* v, const double* f, const
   // ... and whether every new v of a free mass is finite (a pinned one's is set to 0 after the
   // step)
   const __m256d hv = _mm256_set1_pd(h);
-  const __m256i e = _mm256_set1_epi64x(static_cast<long long>(kExpBits)), one = _mm256_set1_epi64x(static_cast<long long>(kExpOne));
   __m256i any = _mm256_setzero_si256();
   std::size_t i = 0;
-  for (; i + 4 <= n; i += 4) {  // 4 masses, 12 elements: 1/m as m0 m0 m0 m1 | m1 m1 m2 m2 | m2 m3 m3 m3
-    const __m256d m = _mm256_loadu_pd(im + i);
-    const __m256d w[3] = {_mm256_permute4x64_pd(m, 0b01000000), _mm256_permute4x64_pd(m, 0b10100101),
-                          _mm256_permute4x64_pd(m, 0b11111110)};
-    __m256d pin[3];
+  for (; i + 4 <= n; i += 4) {  // 4 masses, 12 elements
+    __m256d w[3], pin[3];
+    spread3(_mm256_loadu_pd(im + i), w);
     pinned_lanes(pinned, i, pin);
     for (std::size_t k = 0; k < 3; ++k) {
       double* pv = v + 3 * i + 4 * k;
       const __m256d nv = _mm256_add_pd(_mm256_loadu_pd(pv),
                                        _mm256_mul_pd(hv, _mm256_mul_pd(_mm256_loadu_pd(f + 3 * i + 4 * k), w[k])));
       _mm256_storeu_pd(pv, nv);
-      const __m256i t = _mm256_add_epi64(_mm256_and_si256(_mm256_castpd_si256(nv), e), one);
-      any = _mm256_or_si256(any, _mm256_andnot_si256(_mm256_castpd_si256(pin[k]), t));
+      any = _mm256_or_si256(any, _mm256_andnot_si256(_mm256_castpd_si256(pin[k]), nonfinite_lanes(nv)));
     }
   }
   bool ok = _mm256_movemask_pd(_mm256_castsi256_pd(any)) == 0;
