@@ -21,3 +21,10 @@ void* operator new(std::size_t n) {
 }
 void operator delete(void* p) noexcept { alloc_counter::g_free(p); }
 void operator delete(void* p, std::size_t) noexcept { alloc_counter::g_free(p); }
+// The nothrow form too (std::stable_sort's temporary buffer uses it, and frees it with the plain
+// delete above: ASan reports a mismatch unless both are ours).
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  alloc_counter::g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return std::malloc(n ? n : 1);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept { alloc_counter::g_free(p); }
