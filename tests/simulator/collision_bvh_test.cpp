@@ -385,6 +385,8 @@ TEST(CollisionBvh, CachedPenaltyOnEdgesAtRestAndInRanges) {
     accumulate_penalty(set, xr, 0.1, 1000.0, fb, sb, {}, QueryMethod::BruteForce);
     accumulate_penalty(set, xr, 0.1, 1000.0, fw, sw, whole);
     const std::size_t cut = 137 + static_cast<std::size_t>(round) % 100;  // ranges vary per call
+    split.tick();  // once per step with point ranges, as compute_forces() does
+    split.use_band(0.1);
     accumulate_penalty(set, xr, 0, cut, 0.1, 1000.0, fs, s1, split);
     accumulate_penalty(set, xr, cut, n, 0.1, 1000.0, fs, s2, split);
     const std::size_t bytes = sizeof(double) * static_cast<std::size_t>(x.size());
@@ -506,14 +508,15 @@ TEST(CollisionBvh, PlaneCertificatesAtRestAndAcrossEdgesStayBitIdentical) {
   EXPECT_GT(planes_at_rest, in_reach_at_rest * 3 / 4) << planes_at_rest << " of " << in_reach_at_rest;
 }
 
-// accumulate_penalty() through `cache` against brute force (eps 0.1, k_rep 1000): forces bit
+// accumulate_penalty() through `cache` against brute force (k_rep 1000): forces bit
 // for bit (from -0.0, so that a stray +0 shows), contacts, tunnelled, deepest penetration.
 ::testing::AssertionResult cache_matches_brute_force(const ColliderSet& set, const Eigen::Matrix3Xd& x,
-                                                     clothsim::ContactCache& cache, PenaltyStats& sc) {
+                                                     clothsim::ContactCache& cache, PenaltyStats& sc,
+                                                     double eps = 0.1) {
   Eigen::Matrix3Xd fb = Eigen::Matrix3Xd::Constant(3, x.cols(), -0.0), fc = fb;
   PenaltyStats sb;
-  accumulate_penalty(set, x, 0.1, 1000.0, fb, sb, {}, QueryMethod::BruteForce);
-  accumulate_penalty(set, x, 0.1, 1000.0, fc, sc, cache);
+  accumulate_penalty(set, x, eps, 1000.0, fb, sb, {}, QueryMethod::BruteForce);
+  accumulate_penalty(set, x, eps, 1000.0, fc, sc, cache);
   if (std::memcmp(fb.data(), fc.data(), sizeof(double) * static_cast<std::size_t>(fb.size())) != 0)
     return ::testing::AssertionFailure() << "forces differ";
   if (sb.contacts != sc.contacts || sb.tunnelled != sc.tunnelled)
@@ -522,6 +525,44 @@ TEST(CollisionBvh, PlaneCertificatesAtRestAndAcrossEdgesStayBitIdentical) {
   if (!same_bits(sb.max_penetration, sc.max_penetration))
     return ::testing::AssertionFailure() << "deepest " << sb.max_penetration << " / " << sc.max_penetration;
   return ::testing::AssertionSuccess();
+}
+
+// Plane records bake in the band (a face record the reach 2 eps, a "no force" record eps
+// itself): one cache used with eps 0.1, then 0.03, then 0.1 again gives brute force's answer
+// for each eps, and records for the current eps again at rest. Also the point-range form:
+// it uses records only once the caller has called use_band(eps).
+TEST(CollisionBvh, PlaneRecordsBelongToOneBand) {
+  // A sphere: unlike a flat floor's box, its box (plus the reach) holds points farther than
+  // the reach from every triangle, so stale records would be read.
+  ColliderSet set;
+  const auto sp = clothsim::meshes::icosphere(2, 0.5);
+  set.add_object("sphere", sp.vertices, sp.indices);
+  set.build();
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::uniform_real_distribution<double> h(-0.19, 0.19);  // both sides of the surface
+  Eigen::Matrix3Xd x(3, 400);
+  for (Eigen::Index i = 0; i < x.cols(); ++i) x.col(i) = Vector3d(g(rng), g(rng), g(rng)).normalized() * (0.5 + h(rng));
+  clothsim::ContactCache cache;
+  cache.resize(static_cast<std::size_t>(x.cols()), 1);
+  std::size_t certified = 0;
+  for (const double eps : {0.1, 0.03, 0.1})
+    for (int call = 0; call < 30 && !HasFailure(); ++call) {
+      PenaltyStats sc;
+      ASSERT_TRUE(cache_matches_brute_force(set, x, cache, sc, eps)) << "eps " << eps << ", call " << call;
+      EXPECT_EQ(cache.band, eps);
+      certified = sc.certified;
+    }
+  EXPECT_GT(certified, static_cast<std::size_t>(x.cols()) * 3 / 4);  // at rest: most pairs certified
+  // point ranges with another eps: no records read or made until use_band()
+  Eigen::Matrix3Xd fb = Eigen::Matrix3Xd::Zero(3, x.cols()), fc = fb;
+  PenaltyStats sb, sc;
+  accumulate_penalty(set, x, 0.05, 1000.0, fb, sb, {}, QueryMethod::BruteForce);
+  accumulate_penalty(set, x, 0, static_cast<std::size_t>(x.cols()), 0.05, 1000.0, fc, sc, cache);
+  EXPECT_EQ(std::memcmp(fb.data(), fc.data(), sizeof(double) * static_cast<std::size_t>(fb.size())), 0);
+  EXPECT_EQ(sb.tunnelled, sc.tunnelled);
+  EXPECT_TRUE(same_bits(sb.max_penetration, sc.max_penetration)) << sb.max_penetration << " " << sc.max_penetration;
+  EXPECT_EQ(cache.band, 0.1);
 }
 
 TEST(CollisionBvh, NoForceCertificatesSeeATriangleThatTurnsItsBackWhenItTies) {

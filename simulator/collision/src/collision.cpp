@@ -932,9 +932,11 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
 
 [[gnu::always_inline]] inline bool ColliderSet::certify_inline(
     std::size_t o, const double p[3], double radius_sq, ContactCache& cache, std::size_t ei,
-    bool& hit, double& signed_distance, double normal[3], double band) const {
+    bool& hit, double& signed_distance, double normal[3]) const {
   ContactCache::Entry& e = cache.entries[ei];
   if (e.count < 0) return false;
+  const bool records = radius_sq == cache.band_reach_sq;  // plane records hold for this reach
+  const double band = cache.band;
   const Object& ob = objects_[o];
   // The same m, moved and comparisons as query_cached(): the same decisions.
   const double m = certificate_margin(p, ob.scale);
@@ -944,7 +946,7 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
     if (!(reach + moved + m < e.others_lb)) return false;
     hit = false;
     ContactCache::Plane& pl = cache.entries[ei].plane;
-    if (plane_due(cache, e, pl) &&
+    if (records && plane_due(cache, e, pl) &&
         !store_plane(pl, cache.epoch, p, e.others_lb - moved - m - reach - m, false))
       plane_failed(e);
   } else {
@@ -994,7 +996,7 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
     normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
     // The next calls can take a plane certificate (the loser: the other evaluated one): "no
     // force" beyond the band (which holds over edges too), else this face.
-    if (plane_due(cache, e, cache.entries[ei].plane) &&
+    if (records && plane_due(cache, e, cache.entries[ei].plane) &&
         !(d > band && make_far(p, cache, ei, d, s, alone ? 1 : 2, loser, loser_s, moved, m, band)) &&
         !make_plane(p, cache, ei, n - 9 * stride, stride, d, s, alone ? 1 : 2, loser, moved, m,
                     reach))
@@ -1007,8 +1009,7 @@ ColliderHit ColliderSet::query_cached(std::size_t o, const double p[3], double r
 bool ColliderSet::certify_fast(std::size_t o, const double p[3], double radius_sq,
                                ContactCache& cache, std::size_t ei, bool& hit,
                                double& signed_distance, double normal[3]) const {
-  return certify_inline(o, p, radius_sq, cache, ei, hit, signed_distance, normal,
-                        std::numeric_limits<double>::infinity());
+  return certify_inline(o, p, radius_sq, cache, ei, hit, signed_distance, normal);
 }
 
 namespace detail {
@@ -1022,8 +1023,8 @@ struct PenaltyLoop {
   }
   static bool certify(const ColliderSet& set, std::size_t o, const double p[3], double radius_sq,
                       ContactCache& cache, std::size_t ei, bool& hit, double& signed_distance,
-                      double normal[3], double band) {
-    return set.certify_inline(o, p, radius_sq, cache, ei, hit, signed_distance, normal, band);
+                      double normal[3]) {
+    return set.certify_inline(o, p, radius_sq, cache, ei, hit, signed_distance, normal);
   }
 };
 }  // namespace detail
@@ -1292,6 +1293,7 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
 
   // Search to 2 eps so that points just past the band behind a surface are seen (tunnelled).
   const double reach = 2.0 * eps, reach_sq = reach * reach;
+  const bool planes = cache && cache->band == eps;  // its plane records hold for this eps
   const Eigen::Vector3d lo = set.bounds_min(), hi = set.bounds_max();
   const double* px = x.data();
   double* pf = f.data();
@@ -1333,7 +1335,7 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
       if (!hints.empty()) hints[i * no + o] = -1;
       return;
     }
-    if (cache) {  // the plane certificate: the common case in one cache line
+    if (planes) {  // the plane certificate: the common case in one cache line
                   // (after the box test: a point far from the object reads no cache)
       const ContactCache::Plane& pl = cache->entries[i * no + o].plane;
       const double dx = p[0] - static_cast<double>(pl.x0[0]),
@@ -1357,7 +1359,7 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
     }
     bool hit = false;
     double d = 0.0, nrm[3];
-    if (cache && detail::PenaltyLoop::certify(set, o, p, reach_sq, *cache, i * no + o, hit, d, nrm, eps))
+    if (cache && detail::PenaltyLoop::certify(set, o, p, reach_sq, *cache, i * no + o, hit, d, nrm))
         [[likely]] {
       ++stats.certified;
       if (hit) respond(pf + static_cast<Eigen::Index>(i) * fs, d, nrm);
@@ -1381,7 +1383,7 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
   };
   std::size_t i = begin;
 #ifdef CLOTHSIM_AVX2
-  if (cache && xs == 3 && fs == 3 && use_avx2()) {
+  if (planes && xs == 3 && fs == 3 && use_avx2()) {
     // Four points at a time (the same arithmetic, the same bits)
     i = groups_avx2(set, px, pf, i, end, *cache, lo, hi, reach_sq, eps, k_rep, stats, pair, point);
   }
@@ -1401,6 +1403,7 @@ void accumulate_penalty(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3X
                         double k_rep, Eigen::Ref<Eigen::Matrix3Xd> f, PenaltyStats& stats,
                         ContactCache& cache, QueryMethod method) {
   cache.tick();
+  cache.use_band(eps);
   accumulate_impl(set, x, eps, k_rep, f, stats, {}, &cache, method);
 }
 

@@ -527,6 +527,7 @@ void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::
       }
       bool timed = true;
       cs.whole.tick();  // one call of the shared cache, in runs
+      cs.whole.use_band(o.epsilon);
 #pragma omp parallel num_threads(nt)
       {
         const std::size_t t = thread_num(), got = team_size();

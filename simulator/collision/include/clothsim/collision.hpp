@@ -99,9 +99,10 @@ struct ContactCache {
   /// certificate, which the hardware fetches with it). While the point stays within sqrt(|r2|) of x0, the
   /// object's answer is the triangle with corner `a` and unit normal `n`, the point over its
   /// face (r2 > 0: the distance is the plane distance n.(p - a), computed as the full check
-  /// does, so the same bits), or nothing in reach (r2 < 0). r2 = 0: none. Made from a
-  /// holding list certificate (its lower bounds, less what the point moved) and the face's
-  /// edges, with rounding margins.
+  /// does, so the same bits), or no force and nothing counted (r2 < 0: nothing in reach, or
+  /// the answer beyond the band on its front side, see ColliderSet::make_far). r2 = 0: none.
+  /// Made from a holding list certificate (its lower bounds, less what the point moved) and
+  /// the face's edges, with rounding margins, for one band (`band`).
   struct alignas(64) Plane {
     double a[3] = {0.0, 0.0, 0.0};
     double n[3] = {0.0, 0.0, 0.0};
@@ -143,6 +144,18 @@ struct ContactCache {
   /// for making them otherwise). Only the speed depends on it, never a result.
   std::uint16_t epoch = 0;
   void tick() { ++epoch; }
+  /// The penalty band eps the plane records hold for (they bake in the reach 2 eps, and "no
+  /// force" records eps itself); < 0: none made yet. accumulate_penalty() calls use_band(eps)
+  /// (with point ranges the caller does, once per step, as for tick()); a call with another
+  /// eps neither reads nor makes records until then. Only the speed depends on it.
+  double band = -1.0;
+  double band_reach_sq = -1.0;  ///< (2 band)^2, the reach the records were made for
+  /// Makes the plane records belong to eps: when it differs from `band`, all are dropped.
+  void use_band(double eps) {
+    if (eps == band) return;
+    for (Entry& e : entries) e.plane.r2 = 0;
+    band = eps, band_reach_sq = (2.0 * eps) * (2.0 * eps);
+  }
   std::size_t candidates() const { return k_; }
   void resize(std::size_t points, std::size_t objects,
               std::size_t candidates = kDefaultCandidates) {
@@ -288,11 +301,10 @@ struct ColliderSet {
   // each block a small structure of arrays (12 components x 4 slots, 384 bytes).
   std::vector<double> tri_;
   friend struct detail::PenaltyLoop;
-  /// certify_fast(), inlined into accumulate_penalty()'s per-point loop. `band` is the
-  /// penalty band eps of that loop (infinity elsewhere): see make_far().
+  /// certify_fast(), inlined into accumulate_penalty()'s per-point loop. It makes plane
+  /// records only for the cache's band (radius_sq == band_reach_sq).
   bool certify_inline(std::size_t o, const double p[3], double radius_sq, ContactCache& cache,
-                      std::size_t ei, bool& hit, double& signed_distance, double normal[3],
-                      double band) const;
+                      std::size_t ei, bool& hit, double& signed_distance, double normal[3]) const;
   /// certify_inline()'s "no force" certificate for entry ei, stored as a plane certificate
   /// with nothing to answer (r2 < 0), for a point whose answer lies farther than `band` on
   /// its triangle's front side: within its radius every triangle that can be the nearest
