@@ -146,12 +146,25 @@ TEST(StepClock, CapsWorkPerFrameAndDropsTheBacklog) {
   EXPECT_FALSE(clock.behind());
 }
 
-TEST(StepClock, TakesOneStepWhileTheCostIsUnknown) {
+TEST(StepClock, TakesOneStepWhileTheCostIsUnknownAndOwesTheRest) {
   // 0.2 s of backlog at dt 1 ms: 200 steps are due, but an unmeasured step could take seconds.
   cv::StepClock clock(0.001, 0.1);
   EXPECT_EQ(clock.steps_due(0.2, 0.0), 1);
-  EXPECT_TRUE(clock.behind());
-  EXPECT_EQ(clock.steps_due(0.001, 1e-6), 1);  // measured and cheap: real time again
+  EXPECT_FALSE(clock.behind());
+  EXPECT_NEAR(clock.carried(), 0.199, 1e-9);  // the first frame's time is still owed
+  // Measured and cheap: the next frame takes the backlog too, and real time is kept.
+  EXPECT_EQ(clock.steps_due(0.001, 1e-6), 200);
+  EXPECT_FALSE(clock.behind());
+  // Measured and dear (2 ms a step): the backlog is taken within the cap, the rest dropped.
+  cv::StepClock dear(0.001, 0.1);
+  EXPECT_EQ(dear.steps_due(0.2, 0.0), 1);
+  EXPECT_EQ(dear.steps_due(0.001, 0.002), 50);
+  EXPECT_TRUE(dear.behind());
+  EXPECT_LT(dear.carried(), 0.001);
+  // Nothing due and the cost unknown: no step, nothing owed.
+  cv::StepClock idle(0.01, 0.1);
+  EXPECT_EQ(idle.steps_due(0.001, 0.0), 0);
+  EXPECT_NEAR(idle.carried(), 0.001, 1e-12);
 }
 
 TEST(StepClock, IgnoresBadElapsedTimes) {

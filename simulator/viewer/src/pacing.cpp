@@ -25,11 +25,18 @@ long StepClock::steps_due(double elapsed_wall, double step_cost) {
   if (!(elapsed_wall > 0.0)) elapsed_wall = 0.0;  // a clock that went backwards, or NaN
   accumulator_ += std::min(elapsed_wall, kMaxFrameGap);
   const long due = static_cast<long>(std::floor(accumulator_ / dt_ + 1e-9));
-  // At least one step always fits, otherwise a slow step would freeze the picture; with the
-  // cost not yet measured, one step (the first frame's backlog on a loaded machine froze the
-  // window for seconds before any step was timed).
-  const long affordable =
-      step_cost > 0.0 ? std::max(1L, static_cast<long>(max_work_ / step_cost)) : 1L;
+  if (!(step_cost > 0.0)) {
+    // The cost not yet measured: one step, which the caller times (the first frame's backlog
+    // on a loaded machine froze the window for seconds before any step was timed). The rest
+    // stays owed, for the next frame to take within max_work_per_frame: it is the first
+    // frame's time, not a machine too slow, and dropping it lost ~0.1 s of every run.
+    const long n = std::min(due, 1L);
+    behind_ = false;
+    accumulator_ = std::max(accumulator_ - static_cast<double>(n) * dt_, 0.0);
+    return n;
+  }
+  // At least one step always fits, otherwise a slow step would freeze the picture.
+  const long affordable = std::max(1L, static_cast<long>(max_work_ / step_cost));
   const long n = std::min(due, affordable);
   behind_ = due > affordable;
   accumulator_ -= static_cast<double>(n) * dt_;

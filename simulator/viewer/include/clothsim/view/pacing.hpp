@@ -17,9 +17,10 @@ class StepClock {
   StepClock(double dt, double max_work_per_frame) : dt_(dt), max_work_(max_work_per_frame) {}
 
   /// Steps to take now, given the wall time since the last frame and the measured cost of one
-  /// step (s, 0 if unknown: then at most one step, which the caller times). The remainder is carried to the next frame; when the steps would
-  /// cost more than max_work_per_frame they are capped and the backlog dropped, so a slow
-  /// machine runs slower than real time instead of spiralling (behind() says so).
+  /// step (s; 0 if unknown: then at most one step, which the caller times, and the rest stays
+  /// owed). The remainder is carried to the next frame; when the steps would cost more than
+  /// max_work_per_frame they are capped and the backlog dropped, so a slow machine runs
+  /// slower than real time instead of spiralling (behind() says so).
   long steps_due(double elapsed_wall, double step_cost);
 
   void reset() { accumulator_ = 0.0; behind_ = false; }  ///< after a pause
