@@ -301,10 +301,24 @@ struct ColliderSet {
   // each block a small structure of arrays (12 components x 4 slots, 384 bytes).
   std::vector<double> tri_;
   friend struct detail::PenaltyLoop;
+  /// The list's first candidates that certify_inline() evaluated before it gave up (two, when
+  /// a third may be as near): their squared distances and plane distances, which
+  /// query_cached_from() takes instead of evaluating them again.
+  struct Evaluated {
+    std::int32_t count = 0;
+    double d2[2] = {0.0, 0.0}, s[2] = {0.0, 0.0};
+  };
+  /// query_cached(), with the candidates `pre` already evaluated: the same answer, the same
+  /// entry updates.
+  ColliderHit query_cached_from(std::size_t o, const double p[3], double radius_sq,
+                                QueryMethod method, ContactCache& cache, std::size_t e,
+                                bool& certified, const Evaluated& pre) const;
   /// certify_fast(), inlined into accumulate_penalty()'s per-point loop. It makes plane
-  /// records only for the cache's band (radius_sq == band_reach_sq).
+  /// records only for the cache's band (radius_sq == band_reach_sq). Giving up with a third
+  /// candidate that may tie, it leaves the two it evaluated in `*pre` (if given).
   bool certify_inline(std::size_t o, const double p[3], double radius_sq, ContactCache& cache,
-                      std::size_t ei, bool& hit, double& signed_distance, double normal[3]) const;
+                      std::size_t ei, bool& hit, double& signed_distance, double normal[3],
+                      Evaluated* pre = nullptr) const;
   /// certify_inline()'s "no force" certificate for entry ei, stored as a plane certificate
   /// with nothing to answer (r2 < 0), for a point whose answer lies farther than `band` on
   /// its triangle's front side: within its radius every triangle that can be the nearest
