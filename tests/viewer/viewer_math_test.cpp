@@ -167,6 +167,17 @@ TEST(StepClock, TakesOneStepWhileTheCostIsUnknownAndOwesTheRest) {
   EXPECT_NEAR(idle.carried(), 0.001, 1e-12);
 }
 
+TEST(StepClock, CostEstimateRisesSmoothlyAndFallsAtOnce) {
+  EXPECT_EQ(cv::next_step_cost(0.0, 0.004), 0.004);          // the first measurement
+  EXPECT_DOUBLE_EQ(cv::next_step_cost(0.001, 0.002), 0.0012);  // a dearer frame: smoothed
+  EXPECT_EQ(cv::next_step_cost(0.004, 0.0005), 0.0005);       // a cheaper one: taken at once
+  // The cold first step (4 ms) then steps of 0.5 ms: the cap is back to 200 steps of 0.5 ms
+  // in the next frame, not after ten.
+  cv::StepClock clock(0.001, 0.1);
+  const double cost = cv::next_step_cost(cv::next_step_cost(0.0, 0.004), 0.0005);
+  EXPECT_EQ(clock.steps_due(0.25, cost), 200);
+}
+
 TEST(StepClock, IgnoresBadElapsedTimes) {
   cv::StepClock clock(0.01, 0.1);
   EXPECT_EQ(clock.steps_due(-1.0, 0.0), 0);

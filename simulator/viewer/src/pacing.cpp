@@ -45,6 +45,10 @@ long StepClock::steps_due(double elapsed_wall, double step_cost) {
   return n;
 }
 
+double next_step_cost(double previous, double measured) {
+  return previous > 0.0 ? std::min(measured, 0.8 * previous + 0.2 * measured) : measured;
+}
+
 namespace {
 std::uint64_t per_dt(int substeps) { return static_cast<std::uint64_t>(std::max(substeps, 1)); }
 }  // namespace

@@ -253,10 +253,7 @@ class Viewer {
         const double spent = std::chrono::duration<double>(Clock::now() - t0).count();
         if (done > 0) {
           const double cost = spent / static_cast<double>(done);
-          // Smoothed as it rises, followed at once as it falls: the first step builds the
-          // contact caches (~7x a later step on skirt_hires), and smoothing it down over
-          // several frames capped those frames below real time.
-          step_cost_ = step_cost_ > 0.0 ? std::min(cost, 0.8 * step_cost_ + 0.2 * cost) : cost;
+          step_cost_ = view::next_step_cost(step_cost_, cost);
         }
         window_steps += static_cast<std::uint64_t>(done);
         window_step_time += spent;

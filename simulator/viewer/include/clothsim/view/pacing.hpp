@@ -33,6 +33,12 @@ class StepClock {
   bool behind_ = false;
 };
 
+/// The step-cost estimate after a frame whose steps cost `measured` s each, from `previous`
+/// (0: none yet): smoothed as it rises (0.8 previous + 0.2 measured), followed at once as it
+/// falls. The first step builds the contact caches and costs several later ones; smoothing
+/// it down capped the following frames below real time.
+double next_step_cost(double previous, double measured);
+
 /// Counts in steps of the user's dt. With substeps > 1 the model's dt is dt / substeps (the
 /// stability guard splits each step) and State::steps counts those model steps; the headless
 /// summary, the report and the OBJ numbering count steps of dt, so every text the viewer shows
