@@ -1072,11 +1072,8 @@ ColliderHit ColliderSet::renew_cached(std::size_t o, const double p[3], double r
   // (lean == 0: the last search made a list; lean > 0: 1-nearest searches since.)
   if (k > 1 && e.count >= 0 && e.lean == 0)
     e.backoff = e.age >= kMinAge ? 0 : static_cast<std::uint8_t>(std::min(e.backoff + 1, 7));
-  // A 1-nearest certificate that did not outlive two calls is no cheaper than a list: a point
-  // among tied triangles (over an edge or a vertex of the collider) loses it at once, while a
-  // list holding the ties lasts (skirt_hires, first 3 s: 1.51 M -> 1.07 M searches).
-  const bool list = k > 1 && (e.count < 0 || e.age >= kMinAge || e.lean >= (kRetry << e.backoff) ||
-                              (e.lean > 0 && e.age < 2));
+  const bool list =
+      k > 1 && (e.count < 0 || e.age >= kMinAge || e.lean >= (kRetry << e.backoff));
   e.lean = list ? 0 : static_cast<std::uint16_t>(std::min(e.lean + 1, 0xffff));
   e.age = 0;
   e.settled = 1;
