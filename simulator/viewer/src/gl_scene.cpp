@@ -192,6 +192,11 @@ void RenderTarget::release() {
 
 bool RenderTarget::resize(int w, int h) {
   if (w <= 0 || h <= 0) return true;  // minimised: keep the old target
+  if (to_window) {  // the window's own buffers follow its size
+    width = w;
+    height = h;
+    return true;
+  }
   if (w == width && h == height && fbo_) return true;
   GLint max_size = 0;
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
@@ -222,11 +227,12 @@ bool RenderTarget::resize(int w, int h) {
 }
 
 void RenderTarget::bind_for_drawing() const {
-  glBindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
+  glBindFramebuffer(GL_FRAMEBUFFER, to_window ? 0 : msaa_fbo_);
   glViewport(0, 0, width, height);
 }
 
 void RenderTarget::resolve() const {
+  if (to_window) return;
   glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo_);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
   glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
@@ -234,6 +240,7 @@ void RenderTarget::resolve() const {
 }
 
 void RenderTarget::blit_to_window() const {
+  if (to_window) return;  // drawn there
   glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
   glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
@@ -243,8 +250,8 @@ void RenderTarget::blit_to_window() const {
 std::vector<unsigned char> RenderTarget::read_rgb() const {
   const std::size_t row = static_cast<std::size_t>(width) * 3;
   std::vector<unsigned char> bottom_up(row * static_cast<std::size_t>(height)), top_down(bottom_up.size());
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, to_window ? 0 : fbo_);
+  glReadBuffer(to_window ? GL_BACK : GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, bottom_up.data());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -28,7 +28,8 @@ struct RenderFlags {
 };
 
 /// Where every frame is drawn: a multisampled FBO (4x unless `max_samples` says fewer) resolved
-/// into a plain one, which is read for PNGs and blitted to the window.
+/// into a plain one, which is read for PNGs and blitted to the window; or, with `to_window`,
+/// the window's back buffer itself.
 class RenderTarget {
  public:
   RenderTarget() = default;
@@ -47,6 +48,11 @@ class RenderTarget {
   /// multisampling) for an interactive window on a software renderer, where 4x costs ~15 ms a
   /// frame (llvmpipe, 1280x720).
   int max_samples = 4;
+  /// Set before resize(): draw straight into the window's back buffer, with no FBO and no
+  /// copy (for an interactive window on a software renderer, where each full-frame copy
+  /// costs ~2 ms of the simulation's CPU at 1280x720). read_rgb() then reads the back buffer:
+  /// call it before the swap.
+  bool to_window = false;
 
  private:
   void release();

@@ -102,10 +102,14 @@ class Viewer {
     view::framing_box(scene_, model_, lo, hi);
     camera_.frame(lo, hi, static_cast<double>(fw) / std::max(fh, 1));
     // An interactive window on a software renderer draws without multisampling (4x costs
-    // ~15 ms of CPU a frame at 1280x720 on llvmpipe); pictures written to files keep it.
+    // ~15 ms of CPU a frame at 1280x720 on llvmpipe), straight into the window (no copy);
+    // pictures written to files keep both.
     const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     const bool software = renderer && view::software_renderer(renderer);
-    if (!offscreen && software) gpu_.target.max_samples = 0;
+    if (!offscreen && software) {
+      gpu_.target.max_samples = 0;
+      gpu_.target.to_window = true;
+    }
     const unsigned cores = std::thread::hardware_concurrency();
     finish_frames_ = software && threads() > 1 && static_cast<unsigned>(threads()) >= cores;
     if (!gpu_.target.resize(fw, fh))
