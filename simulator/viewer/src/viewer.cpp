@@ -103,7 +103,7 @@ class Viewer {
     camera_.frame(lo, hi, static_cast<double>(fw) / std::max(fh, 1));
     // An interactive window on a software renderer draws without multisampling (4x costs
     // ~15 ms of CPU a frame at 1280x720 on llvmpipe), straight into the window (no copy);
-    // pictures written to files keep both.
+    // --screenshot and --frames, drawn offscreen, keep both.
     const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     const bool software = renderer && view::software_renderer(renderer);
     if (!offscreen && software) {
