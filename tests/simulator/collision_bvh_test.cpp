@@ -20,6 +20,25 @@ namespace {
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
+// An icosphere of `level` and `radius` about the origin, as the only collider object.
+ColliderSet sphere_set(int level, double radius) {
+  ColliderSet set;
+  const auto s = clothsim::meshes::icosphere(level, radius);
+  set.add_object("sphere", s.vertices, s.indices);
+  set.build();
+  return set;
+}
+
+// n points in random directions at distances uniform in [lo, hi] from the origin.
+Eigen::Matrix3Xd shell_points(Eigen::Index n, std::uint64_t seed, double lo, double hi) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::uniform_real_distribution<double> r(lo, hi);
+  Eigen::Matrix3Xd x(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) x.col(i) = Vector3d(g(rng), g(rng), g(rng)).normalized() * r(rng);
+  return x;
+}
+
 // A random scene: an icosphere, a noisy floor, a soup of random triangles (some degenerate,
 // some duplicated) of varied sizes.
 ColliderSet random_scene(std::mt19937_64& rng, const Vector3d& offset = Vector3d::Zero()) {
@@ -318,16 +337,8 @@ TEST(CollisionBvh, CandidateCacheTiesAndReachOnAFlatGrid) {
 TEST(CollisionBvh, CandidateCachePenaltyBitIdenticalWhileSliding) {
   // accumulate_penalty() with the default ContactCache vs brute force on an icosphere, the
   // points turning about an axis through its centre (monotonic, as in the benchmark).
-  ColliderSet set;
-  const auto s = clothsim::meshes::icosphere(3, 1.0);
-  set.add_object("sphere", s.vertices, s.indices);
-  set.build();
-  std::mt19937_64 rng(7);
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::uniform_real_distribution<double> r(0.85, 1.15);
-  Eigen::Matrix3Xd x(3, 400);
-  for (Eigen::Index i = 0; i < x.cols(); ++i)
-    x.col(i) = Vector3d(g(rng), g(rng), g(rng)).normalized() * r(rng);
+  const ColliderSet set = sphere_set(3, 1.0);
+  Eigen::Matrix3Xd x = shell_points(400, 7, 0.85, 1.15);
   const Eigen::Matrix3d rot = Eigen::AngleAxisd(1e-3, Vector3d::UnitX()).toRotationMatrix();
   clothsim::ContactCache cache;
   cache.resize(static_cast<std::size_t>(x.cols()), 1);
@@ -534,15 +545,8 @@ TEST(CollisionBvh, PlaneCertificatesAtRestAndAcrossEdgesStayBitIdentical) {
 TEST(CollisionBvh, PlaneRecordsBelongToOneBand) {
   // A sphere: unlike a flat floor's box, its box (plus the reach) holds points farther than
   // the reach from every triangle, so stale records would be read.
-  ColliderSet set;
-  const auto sp = clothsim::meshes::icosphere(2, 0.5);
-  set.add_object("sphere", sp.vertices, sp.indices);
-  set.build();
-  std::mt19937_64 rng(9);
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::uniform_real_distribution<double> h(-0.19, 0.19);  // both sides of the surface
-  Eigen::Matrix3Xd x(3, 400);
-  for (Eigen::Index i = 0; i < x.cols(); ++i) x.col(i) = Vector3d(g(rng), g(rng), g(rng)).normalized() * (0.5 + h(rng));
+  const ColliderSet set = sphere_set(2, 0.5);
+  const Eigen::Matrix3Xd x = shell_points(400, 9, 0.31, 0.69);  // both sides of the surface
   clothsim::ContactCache cache;
   cache.resize(static_cast<std::size_t>(x.cols()), 1);
   std::size_t certified = 0;
