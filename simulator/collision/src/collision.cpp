@@ -333,6 +333,10 @@ void ColliderSet::build() {
   // Queries need only each root's box and the 4-wide tree.
   for (Object& ob : objects_)
     if (ob.tri_end > ob.tri_begin) ob.root_box = nodes_[ob.root];
+  clear_.assign(orig_.size(), 0.0f);
+  for (std::size_t o = 0; o < objects_.size(); ++o)
+    if (objects_[o].tri_end > objects_[o].tri_begin) compute_clearances(o);
+  clear_.shrink_to_fit();
   nodes_.clear();
   nodes_.shrink_to_fit();
   nodes4_.shrink_to_fit();
@@ -751,11 +755,206 @@ inline void plane_failed(ContactCache::Entry& e) {
   if (e.plane_backoff < 6) ++e.plane_backoff;
   e.plane_wait = static_cast<std::uint8_t>((1u << e.plane_backoff) - 1u);
 }
+// How far the foot of p (plane distance s) is inside each edge of triangle t (component k at
+// t[k * stride]), less a margin (1e-6 of the coordinates) far beyond the kernel's rounding:
+// > 0 means every point within that distance of p takes the kernel's face branch, whose
+// distance is |n.(p - a)|. -infinity on a sliver (sine of the smallest angle < 1e-2).
+double inside_face(const double p[3], const double* t, std::size_t stride, double s) {
+  const auto T = [t, stride](int k) { return t[static_cast<std::size_t>(k) * stride]; };
+  const double n[3] = {T(9), T(10), T(11)};
+  const double ab[3] = {T(3), T(4), T(5)}, ac[3] = {T(6), T(7), T(8)};
+  const double bc[3] = {ac[0] - ab[0], ac[1] - ab[1], ac[2] - ab[2]};
+  const auto len = [](const double v[3]) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
+  const double lab = len(ab), lac = len(ac), lbc = len(bc);
+  const double cx = ab[1] * ac[2] - ab[2] * ac[1], cy = ab[2] * ac[0] - ab[0] * ac[2],
+               cz = ab[0] * ac[1] - ab[1] * ac[0];
+  const double longest = std::max({lab, lac, lbc});
+  if (!(std::sqrt(cx * cx + cy * cy + cz * cz) >= 1e-2 * longest * longest))
+    return -std::numeric_limits<double>::infinity();
+  // The foot of p relative to A, and its distance inside each edge's line (in the plane).
+  const double q[3] = {p[0] - T(0) - s * n[0], p[1] - T(1) - s * n[1], p[2] - T(2) - s * n[2]};
+  const auto inside = [&n](const double e[3], const double w[3], double l) {
+    // ((e x w) . n) / |e|: > 0 on the triangle's side of the edge (counter-clockwise)
+    return ((e[1] * w[2] - e[2] * w[1]) * n[0] + (e[2] * w[0] - e[0] * w[2]) * n[1] +
+            (e[0] * w[1] - e[1] * w[0]) * n[2]) / l;
+  };
+  const double qb[3] = {q[0] - ab[0], q[1] - ab[1], q[2] - ab[2]};
+  const double qc[3] = {q[0] - ac[0], q[1] - ac[1], q[2] - ac[2]};
+  const double ca[3] = {-ac[0], -ac[1], -ac[2]};
+  const double delta = std::min({inside(ab, q, lab), inside(bc, qb, lbc), inside(ca, qc, lac)});
+  return delta - 1e-6 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + longest);
+}
 }  // namespace
 
 bool ColliderSet::out_of_reach(std::size_t o, const double p[3], double radius_sq) const {
   const Object& ob = objects_[o];
   return ob.kept == 0 || box_dist_sq(ob.lo, ob.hi, p) > radius_sq;
+}
+
+namespace {
+// Whether triangle g (corners g[0..2]) stays out of the way of points over the face of T (corner
+// a, unit normal n, corners t2[0..2] in the plane frame u, w at a) and in front of it: g lies
+// behind T's plane by at least tau (case a: a point at height h is >= h + tau from it), or
+// within tau of it but on no part of it in front by more than tau, with its shadow on the plane
+// separated from T by a line up to tau (case b: a point over the face, whose foot is mu inside
+// T, is >= sqrt((h - tau)^2 + (mu - tau)^2) from it). See ColliderSet::clear_radius().
+bool out_of_the_way(const double a[3], const double n[3], const double u[3], const double w[3],
+                    const double t2[3][2], const Eigen::Vector3d g[3], double tau) {
+  double g2[3][2], lowest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 3; ++i) {
+    const double v[3] = {g[i].x() - a[0], g[i].y() - a[1], g[i].z() - a[2]};
+    const double h = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
+    lowest = std::min(lowest, -h);
+    g2[i][0] = u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    g2[i][1] = w[0] * v[0] + w[1] * v[1] + w[2] * v[2];
+  }
+  if (lowest >= tau) return true;    // (a) behind the plane
+  if (lowest < -tau) return false;   // in front of it somewhere
+  // (b): a separating line among the edge normals of both (the separating axis theorem).
+  const auto separated = [&](const double e0[2], const double e1[2]) {
+    const double ex = e1[0] - e0[0], ey = e1[1] - e0[1], l = std::hypot(ex, ey);
+    if (!(l > tau)) return false;
+    const double nx = -ey / l, ny = ex / l;
+    double t_lo = std::numeric_limits<double>::infinity(), t_hi = -t_lo, g_lo = t_lo, g_hi = -t_lo;
+    for (int i = 0; i < 3; ++i) {
+      const double pt = nx * t2[i][0] + ny * t2[i][1], pg = nx * g2[i][0] + ny * g2[i][1];
+      t_lo = std::min(t_lo, pt), t_hi = std::max(t_hi, pt);
+      g_lo = std::min(g_lo, pg), g_hi = std::max(g_hi, pg);
+    }
+    return t_hi <= g_lo + tau || g_hi <= t_lo + tau;
+  };
+  for (int i = 0; i < 3; ++i)
+    if (separated(t2[i], t2[(i + 1) % 3]) || separated(g2[i], g2[(i + 1) % 3])) return true;
+  return false;
+}
+constexpr int kClearanceTests = 512;  // triangles tested per triangle at most
+}  // namespace
+
+void ColliderSet::compute_clearances(std::size_t o) {
+  const Object& ob = objects_[o];
+  const auto first = static_cast<std::int64_t>(ob.tri_begin), last = static_cast<std::int64_t>(ob.tri_end);
+  // Each slot's figure depends on nothing else: the same at any thread count.
+#pragma omp parallel for schedule(dynamic, 512) if (last - first > 4096)
+  for (std::int64_t slot = first; slot < last; ++slot)
+    if (orig_[static_cast<std::size_t>(slot)] >= 0)
+      clear_[static_cast<std::size_t>(slot)] = clearance_of(o, static_cast<std::uint32_t>(slot));
+}
+
+float ColliderSet::clearance_of(std::size_t o, std::uint32_t slot) const {
+  const Object& ob = objects_[o];
+  const double tau = 1e-9 * ob.scale;
+  const auto corners = [this](std::uint32_t g, Eigen::Vector3d c[3]) {
+    const detail::Tri t = tri_at(g);
+    c[0] = Eigen::Vector3d(t.ax, t.ay, t.az);
+    c[1] = c[0] + Eigen::Vector3d(t.bx, t.by, t.bz);
+    c[2] = c[0] + Eigen::Vector3d(t.cx, t.cy, t.cz);
+  };
+  Eigen::Vector3d c[3];
+  corners(slot, c);
+  const detail::Tri tri = tri_at(slot);
+  const double a[3] = {tri.ax, tri.ay, tri.az}, n[3] = {tri.nx, tri.ny, tri.nz};
+  const Eigen::Vector3d uu = (c[1] - c[0]).normalized();
+  const Eigen::Vector3d ww = Eigen::Vector3d(n[0], n[1], n[2]).cross(uu);
+  const double u[3] = {uu.x(), uu.y(), uu.z()}, w[3] = {ww.x(), ww.y(), ww.z()};
+  double t2[3][2];
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d v = c[i] - c[0];
+    t2[i][0] = uu.dot(v), t2[i][1] = ww.dot(v);
+  }
+  // Boxes in float (axes orthonormal to 1e-6): a box is wholly behind the plane by tau if
+  // its support along n, plus a margin far above float rounding, is below n.a - tau; its
+  // distance from a is at least sqrt(float d2) (1 - 1e-5) - the margin.
+  const float amax = static_cast<float>(std::max({std::abs(a[0]), std::abs(a[1]), std::abs(a[2])}));
+  const float slack = 4e-6f * (amax + static_cast<float>(ob.scale));
+  const float pf[3] = {static_cast<float>(a[0]), static_cast<float>(a[1]), static_cast<float>(a[2])};
+  const float nf[3] = {static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2])};
+  const auto behind_f = static_cast<float>(n[0] * a[0] + n[1] * a[1] + n[2] * a[2] - tau);
+  double rho = std::numeric_limits<double>::infinity();
+  int tested = 0;
+  StackEntry stack[128];  // as in traverse(): depth <= 26, each visit pushes <= 4
+  int top = 0;
+  stack[top++] = StackEntry{ob.root4, 0.0f};
+  while (top > 0) {
+    const StackEntry it = stack[--top];
+    const double it_d = static_cast<double>(it.d2);  // here: a distance, not squared
+    if (it_d >= rho) continue;
+    if ((it.ref & 7u) != 0) {  // a leaf
+      if (tested >= kClearanceTests) {  // every untested triangle is at least this far
+        rho = it_d;
+        for (int k = 0; k < top; ++k) rho = std::min(rho, static_cast<double>(stack[k].d2));
+        break;
+      }
+      for (std::uint32_t g = it.ref >> 3, end = g + (it.ref & 7u); g < end; ++g) {
+        if (g == slot || orig_[g] < 0) continue;
+        ++tested;
+        Eigen::Vector3d gc[3];
+        corners(g, gc);
+        if (out_of_the_way(a, n, u, w, t2, gc, tau)) continue;
+        double s_unused;
+        const double dist = std::sqrt(detail::closest_sq<kBlock>(a, tri_ptr(g), s_unused));
+        rho = std::min(rho, dist * (1.0 - 1e-9) - tau);
+      }
+      continue;
+    }
+    const Node4& nd = nodes4_[it.ref >> 3];
+    const v4f q0 = pf[0] - load4(nd.c[0]), q1 = pf[1] - load4(nd.c[1]), q2 = pf[2] - load4(nd.c[2]);
+    const v4f h0 = load4(nd.h[0]), h1 = load4(nd.h[1]), h2 = load4(nd.h[2]);
+    const v4f a0 = load4(nd.a[0]), a1 = load4(nd.a[1]), a2 = load4(nd.a[2]);
+    const v4f a3 = load4(nd.a[3]), a4 = load4(nd.a[4]), a5 = load4(nd.a[5]);
+    const v4f a6 = load4(nd.a[6]), a7 = load4(nd.a[7]), a8 = load4(nd.a[8]);
+    const v4f e0 = pos(vabs(a0 * q0 + a1 * q1 + a2 * q2) - h0);
+    const v4f e1 = pos(vabs(a3 * q0 + a4 * q1 + a5 * q2) - h1);
+    const v4f e2 = pos(vabs(a6 * q0 + a7 * q1 + a8 * q2) - h2);
+    const v4f d2 = e0 * e0 + e1 * e1 + e2 * e2;
+    const v4f support = nf[0] * load4(nd.c[0]) + nf[1] * load4(nd.c[1]) + nf[2] * load4(nd.c[2]) +
+                        h0 * vabs(a0 * nf[0] + a1 * nf[1] + a2 * nf[2]) +
+                        h1 * vabs(a3 * nf[0] + a4 * nf[1] + a5 * nf[2]) +
+                        h2 * vabs(a6 * nf[0] + a7 * nf[1] + a8 * nf[2]);
+    const v4f margin = slack + 1e-5f * (h0 + h1 + h2);
+    StackEntry pass[4];
+    int np = 0;
+    for (int k = 0; k < 4; ++k) {
+      if (nd.h[0][k] < 0.0f) continue;                       // an empty lane
+      if (support[k] + margin[k] <= behind_f) continue;      // wholly behind: case (a)
+      const float dk = std::max(std::sqrt(d2[k]) * (1.0f - 1e-5f) - margin[k], 0.0f);
+      if (static_cast<double>(dk) >= rho) continue;
+      int j = np++;
+      for (; j > 0 && pass[j - 1].d2 < dk; --j) pass[j] = pass[j - 1];
+      pass[j] = StackEntry{nd.child[k], dk};
+    }
+    for (int k = 0; k < np; ++k) stack[top++] = pass[k];
+  }
+  return rho == std::numeric_limits<double>::infinity() ? std::numeric_limits<float>::infinity()
+                                                        : std::max(round_down(rho), 0.0f);
+}
+
+double ColliderSet::clearance(std::size_t o, std::size_t t) const {
+  const std::int32_t slot = objects_.at(o).input_to_kept.at(t);
+  return slot < 0 ? 0.0 : static_cast<double>(clear_[static_cast<std::size_t>(slot)]);
+}
+
+// Why a clear face certificate holds (see clearance()): within r of p, a point P stays over
+// the face with its foot at least mu_min inside every edge, at a height h in [tau, reach], and
+// every triangle that could be as near as the face (within h + tau of P) lies within the
+// clearance of corner A, so it is out of the way: (a) it is >= h + tau from P; (b)
+// sqrt((h - tau)^2 + (mu - tau)^2) >= h + tau when (mu - tau)^2 >= 4 h tau, which mu_min
+// below gives for h <= reach. tau = 1e-9 of the coordinates >= the rounding margin m (checked)
+// is far above the kernel's rounding, so the face strictly wins the computed comparison too,
+// and its computed distance is the face branch's |n.(P - A)|: the same bits as the search.
+double ColliderSet::clear_radius(std::size_t o, std::uint32_t slot, const double p[3],
+                                 const double* t, std::size_t stride, double d, double s,
+                                 double m, double reach) const {
+  const double rho = static_cast<double>(clear_[slot]);
+  const double tau = 1e-9 * objects_[o].scale;
+  if (!(rho > 0.0) || !(m <= tau) || !(s > 0.0)) return -1.0;
+  const double mu_min = tau + 2.0 * std::sqrt(reach * tau);
+  const double r = std::min(inside_face(p, t, stride, s) - mu_min, std::min(s - 2.0 * tau, reach - d - m));
+  if (!(r > 0.0)) return r;
+  const auto T = [t, stride](int k) { return t[static_cast<std::size_t>(k) * stride]; };
+  const double pa = std::sqrt((p[0] - T(0)) * (p[0] - T(0)) + (p[1] - T(1)) * (p[1] - T(1)) +
+                              (p[2] - T(2)) * (p[2] - T(2)));
+  // Every P within r: |P - A| + h(P) + tau <= |p - A| + d + 2 r + tau must stay within rho.
+  return std::min(r, 0.5 * (rho - pa - d - tau - m));
 }
 
 // The plane certificate of the answer, triangle t (component k at t[k * stride]) at distance
@@ -774,28 +973,7 @@ bool ColliderSet::make_plane(const double p[3], ContactCache& cache,
   ContactCache::Plane& pl = cache.entries[ei].plane;
   const auto T = [t, stride](int k) { return t[static_cast<std::size_t>(k) * stride]; };
   const double n[3] = {T(9), T(10), T(11)};
-  const double ab[3] = {T(3), T(4), T(5)}, ac[3] = {T(6), T(7), T(8)};
-  const double bc[3] = {ac[0] - ab[0], ac[1] - ab[1], ac[2] - ab[2]};
-  const auto len = [](const double v[3]) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
-  const double lab = len(ab), lac = len(ac), lbc = len(bc);
-  const double cx = ab[1] * ac[2] - ab[2] * ac[1], cy = ab[2] * ac[0] - ab[0] * ac[2],
-               cz = ab[0] * ac[1] - ab[1] * ac[0];
-  const double longest = std::max({lab, lac, lbc});
-  if (!(std::sqrt(cx * cx + cy * cy + cz * cz) >= 1e-2 * longest * longest)) return false;
-  // The foot of p relative to A, and its distance inside each edge's line (in the plane).
-  const double q[3] = {p[0] - T(0) - s * n[0], p[1] - T(1) - s * n[1], p[2] - T(2) - s * n[2]};
-  const auto inside = [&n](const double e[3], const double w[3], double l) {
-    // ((e x w) . n) / |e|: > 0 on the triangle's side of the edge (counter-clockwise)
-    return ((e[1] * w[2] - e[2] * w[1]) * n[0] + (e[2] * w[0] - e[0] * w[2]) * n[1] +
-            (e[0] * w[1] - e[1] * w[0]) * n[2]) / l;
-  };
-  const double qb[3] = {q[0] - ab[0], q[1] - ab[1], q[2] - ab[2]};
-  const double qc[3] = {q[0] - ac[0], q[1] - ac[1], q[2] - ac[2]};
-  const double ca[3] = {-ac[0], -ac[1], -ac[2]};
-  const double delta = std::min({inside(ab, q, lab), inside(bc, qb, lbc), inside(ca, qc, lac)});
-  const double margin =
-      1e-6 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + longest);
-  double r = std::min(delta - margin, reach - d - m);
+  double r = std::min(inside_face(p, t, stride, s), reach - d - m);
   if (!(r > 0.0)) return false;
   // Every other triangle must stay farther than d + 2 r (+ margins).
   const ContactCache::Entry& e = cache.entries[ei];
@@ -976,6 +1154,27 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
     }
     if (!(d2 <= radius_sq)) return false;
     double d = std::sqrt(d2);
+    if (s > 0.0) {
+      // A clear face (see clear_radius()): the answer whatever the list says, and a record
+      // that lasts while the point stays over the face, however near the other triangles tie.
+      const double r = clear_radius(o, cache.slots[ei * cache.candidates()], p, n - 9 * stride,
+                                    stride, d, s, m, reach);
+      if (r > 0.0) {
+        hit = true;
+        signed_distance = detail::signed_from(d, s);
+        normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
+        ContactCache::Plane& pl = cache.entries[ei].plane;
+        if (records && plane_due(cache, e, pl)) {
+          pl.a[0] = n[-9 * static_cast<std::ptrdiff_t>(stride)];
+          pl.a[1] = n[-8 * static_cast<std::ptrdiff_t>(stride)];
+          pl.a[2] = n[-7 * static_cast<std::ptrdiff_t>(stride)];
+          pl.n[0] = n[0], pl.n[1] = n[stride], pl.n[2] = n[2 * stride];
+          if (!store_plane(pl, cache.epoch, p, r, true)) plane_failed(e);
+        }
+        if (e.age < kMinAge) ++e.age;
+        return true;
+      }
+    }
     const bool alone = e.count == 1 || static_cast<double>(cl[1]) - moved - m > d;
     double loser = std::numeric_limits<double>::infinity();  // the other evaluated candidate
     double loser_s = 0.0;                                     // and its plane distance

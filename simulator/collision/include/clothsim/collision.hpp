@@ -209,11 +209,22 @@ struct ColliderSet {
   Eigen::Vector3d bounds_min() const { return lo_; }
   Eigen::Vector3d bounds_max() const { return hi_; }
   std::size_t bvh_node_count() const { return nodes4_.size(); }  ///< 4-wide nodes
-  /// Bytes held by the query structures (triangle blocks, nodes, slot map), not the input copy.
+  /// Bytes held by the query structures (triangle blocks, nodes, slot map, clearances), not
+  /// the input copy.
   std::size_t bvh_bytes() const {
     return tri_.size() * sizeof(double) + nodes4_.size() * sizeof(Node4) +
-           orig_.size() * sizeof(std::int32_t);
+           orig_.size() * sizeof(std::int32_t) + clear_.size() * sizeof(float);
   }
+  /// The clearance of input triangle t of object o (0 for a dropped one): every other
+  /// triangle of the object that reaches within this distance of the triangle's first corner
+  /// lies behind its plane (all corners deeper than 1e-9 of the coordinates), or touches the
+  /// plane only outside the triangle (its shadow on the plane is separated from it by a
+  /// line). Then a point over the face, in front of it, is nearer to it than to any such
+  /// triangle, wherever over the face it is (the face's outer Voronoi region, as on a convex
+  /// mesh): the "clear face" certificate, which does not shrink with the gaps between nearly
+  /// equidistant triangles. +infinity when no triangle fails; computed by build() (nearest
+  /// triangles first, at most 512 tested per triangle: then the distance reached).
+  double clearance(std::size_t o, std::size_t t) const;
 
   /// Per object, the closest kept triangle with distance <= radius. `out` must have
   /// object_count() entries; entries of objects with nothing in reach get object = -1.
@@ -338,6 +349,17 @@ struct ColliderSet {
   /// Where slot's 12 components start (component k at [k * 4]).
   const double* tri_ptr(std::uint32_t slot) const;
   std::vector<std::int32_t> orig_;     ///< per slot: input triangle index in its object, -1 unused
+  /// Per slot: clearance() rounded down (0 for unused slots), around the slot's corner A.
+  std::vector<float> clear_;
+  void compute_clearances(std::size_t o);
+  float clearance_of(std::size_t o, std::uint32_t slot) const;
+  /// The radius of a "clear face" certificate at p for the triangle at `slot` (its data at t,
+  /// component k at t[k * stride]), the answer's candidate at distance d with plane distance
+  /// s > 0; <= 0 when it cannot be made (p not over the face by enough, too near the face's
+  /// plane, or too near a triangle within the clearance). Within it, the triangle is the
+  /// object's answer over its face (the kernel's face branch), strictly nearer than any other.
+  double clear_radius(std::size_t o, std::uint32_t slot, const double p[3], const double* t,
+                      std::size_t stride, double d, double s, double m, double reach) const;
   std::size_t kept_total_ = 0;
   std::uint32_t collapse(std::uint32_t binary);
   /// query_cached()'s search and renewal of entry ei (kept out of its fast path).
