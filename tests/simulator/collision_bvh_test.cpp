@@ -780,3 +780,65 @@ TEST(CollisionBvh, ClearFaceCertificatesSlideOverASphereAndIntoACorner) {
     }
   }
 }
+
+namespace {
+
+// A roof: two slopes of 34 x 34 cells of 5 mm falling at 30 degrees from a ridge along z at
+// x = 0, y = 1 (one vertex array, so the ridge's vertices are shared), faces up: 4 624
+// triangles, a large collider (the walk to a neighbour is tried on colliders of more than
+// 4 096). With `flag`, a small triangle stands in front of the slopes near the ridge, at
+// x = 0.01, z 0.05 .. 0.08.
+ColliderSet roof(bool flag) {
+  const int n = 34;
+  const double s = 0.005, slope = std::tan(30.0 * 3.14159265358979323846 / 180.0);
+  Eigen::Matrix3Xd v(3, (2 * n + 1) * (n + 1) + 3);
+  const auto at = [&](int i, int j) { return static_cast<std::uint32_t>((i + n) * (n + 1) + j); };
+  for (int i = -n; i <= n; ++i)
+    for (int j = 0; j <= n; ++j)
+      v.col(at(i, j)) = Vector3d(i * s, 1.0 - std::abs(i) * s * slope, j * s);
+  std::vector<std::uint32_t> idx;
+  for (int i = -n; i < n; ++i)
+    for (int j = 0; j < n; ++j)  // counter-clockwise seen from above (+y)
+      idx.insert(idx.end(), {at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+  const auto f = static_cast<std::uint32_t>(v.cols() - 3);
+  v.col(f) = Vector3d(0.01, 0.99, 0.05);
+  v.col(f + 1) = Vector3d(0.01, 0.99, 0.08);
+  v.col(f + 2) = Vector3d(0.01, 1.04, 0.065);
+  if (flag) idx.insert(idx.end(), {f, f + 1, f + 2});
+  ColliderSet set;
+  set.add_object("roof", v, idx);
+  set.build();
+  return set;
+}
+
+}  // namespace
+
+// Edge answers (ColliderSet::edge_answer): a point over a convex edge, in front of both faces
+// and beyond both, is answered by the better of the two when every other triangle is out of
+// the way of the edge. Points 3 .. 10 cm over a roof of 5 mm cells slide across its ridge,
+// 0.2 mm per call: every call equals brute force bit for bit, and more than 9 in 10 are
+// certified (95 % when written; 13 % without edge answers: in the wedge over the ridge the
+// nearest triangles of a K-list tie within a few microns, so lists alone die every few calls). With a small triangle standing near the ridge, the points that pass it
+// are answered by it, as brute force says.
+TEST(CollisionBvh, EdgeAnswersOverARidgeAndPastATriangleInTheWay) {
+  for (const bool flag : {false, true}) {
+    const ColliderSet set = roof(flag);
+    const Eigen::Index n = 64;
+    Eigen::Matrix3Xd x(3, n);
+    for (Eigen::Index i = 0; i < n; ++i)
+      x.col(i) = Vector3d(-0.03 + 0.0007 * static_cast<double>(i % 8), 1.03 + 0.01 * static_cast<double>(i / 8),
+                          0.0106 + 0.0021 * static_cast<double>(i));
+    clothsim::ContactCache cache;
+    cache.resize(static_cast<std::size_t>(n), 1);
+    std::size_t certified = 0, pairs = 0;
+    for (int call = 0; call < 300 && !HasFailure(); ++call) {
+      x.row(0).array() += 0.0002;
+      PenaltyStats sc;
+      ASSERT_TRUE(cache_matches_brute_force(set, x, cache, sc)) << (flag ? "flag" : "roof") << ", call " << call;
+      if (call >= 10) certified += sc.certified, pairs += static_cast<std::size_t>(n);
+    }
+    if (!flag) {
+      EXPECT_GT(certified, pairs * 9 / 10) << certified << " of " << pairs;
+    }
+  }
+}

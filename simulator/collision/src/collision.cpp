@@ -1,6 +1,7 @@
 #include "clothsim/collision.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdlib>
@@ -144,6 +145,15 @@ float round_up(double v) {
 // Triangle slots come in blocks of 4 (one leaf each), component-major inside a block.
 // (Slot-major, 96 contiguous bytes per triangle, made the searches 4-7 % slower.)
 constexpr std::uint32_t kBlock = 4;
+// Edge answers: only over the edge's middle (all but kEdgeEnds of its length at either end),
+// and every other triangle at least kEdgeZeta of its length from there. (A fan triangle at an
+// end that leaves it at an angle phi is kEdgeEnds sin(phi) of the length from the middle part:
+// any phi above 14.5 degrees.)
+constexpr double kEdgeEnds = 0.02, kEdgeZeta = 0.005;
+// Clearances: the looser depth (of the coordinates) allowed far from a face or an edge, so that
+// boxes of a plane's own triangles (a floor, a roof's slope: float boxes cannot tell tau) need
+// not be opened; and the largest reach or distance (of the coordinates' scale, 2) it holds for.
+constexpr double kLooseDepth = 1e-4;
 
 // Total order for "closest": distance, then lowest input triangle index.
 inline bool better(double d2, std::int32_t tri, double best_d2, std::int32_t best_tri) {
@@ -333,10 +343,13 @@ void ColliderSet::build() {
   // Queries need only each root's box and the 4-wide tree.
   for (Object& ob : objects_)
     if (ob.tri_end > ob.tri_begin) ob.root_box = nodes_[ob.root];
-  clear_.assign(orig_.size(), 0.0f);
+  // Clearances are computed when first needed (clear_at(), eclear_at()): NaN until then.
+  clear_.assign(orig_.size(), std::numeric_limits<float>::quiet_NaN());
+  eclear_.assign(3 * orig_.size(), std::numeric_limits<float>::quiet_NaN());
+  adj_.assign(3 * orig_.size(), -1);
   for (std::size_t o = 0; o < objects_.size(); ++o)
-    if (objects_[o].tri_end > objects_[o].tri_begin) compute_clearances(o);
-  clear_.shrink_to_fit();
+    if (objects_[o].tri_end > objects_[o].tri_begin) compute_adjacency(o);
+  adj_.shrink_to_fit();
   nodes_.clear();
   nodes_.shrink_to_fit();
   nodes4_.shrink_to_fit();
@@ -756,10 +769,12 @@ inline void plane_failed(ContactCache::Entry& e) {
   e.plane_wait = static_cast<std::uint8_t>((1u << e.plane_backoff) - 1u);
 }
 // How far the foot of p (plane distance s) is inside each edge of triangle t (component k at
-// t[k * stride]), less a margin (1e-6 of the coordinates) far beyond the kernel's rounding:
-// > 0 means every point within that distance of p takes the kernel's face branch, whose
-// distance is |n.(p - a)|. -infinity on a sliver (sine of the smallest angle < 1e-2).
-double inside_face(const double p[3], const double* t, std::size_t stride, double s) {
+// t[k * stride]; edge 0: A-B, 1: B-C, 2: C-A), in `in`, and `margin` (1e-6 of the
+// coordinates), far beyond the kernel's rounding: every point within in[k] - margin (> 0) of p
+// takes the kernel's face branch, whose distance is |n.(p - a)|; the foot of a point with
+// in[k] < -margin is beyond edge k. False on a sliver (sine of the smallest angle < 1e-2).
+bool face_insides(const double p[3], const double* t, std::size_t stride, double s, double in[3],
+                  double& margin) {
   const auto T = [t, stride](int k) { return t[static_cast<std::size_t>(k) * stride]; };
   const double n[3] = {T(9), T(10), T(11)};
   const double ab[3] = {T(3), T(4), T(5)}, ac[3] = {T(6), T(7), T(8)};
@@ -769,8 +784,7 @@ double inside_face(const double p[3], const double* t, std::size_t stride, doubl
   const double cx = ab[1] * ac[2] - ab[2] * ac[1], cy = ab[2] * ac[0] - ab[0] * ac[2],
                cz = ab[0] * ac[1] - ab[1] * ac[0];
   const double longest = std::max({lab, lac, lbc});
-  if (!(std::sqrt(cx * cx + cy * cy + cz * cz) >= 1e-2 * longest * longest))
-    return -std::numeric_limits<double>::infinity();
+  if (!(std::sqrt(cx * cx + cy * cy + cz * cz) >= 1e-2 * longest * longest)) return false;
   // The foot of p relative to A, and its distance inside each edge's line (in the plane).
   const double q[3] = {p[0] - T(0) - s * n[0], p[1] - T(1) - s * n[1], p[2] - T(2) - s * n[2]};
   const auto inside = [&n](const double e[3], const double w[3], double l) {
@@ -781,14 +795,90 @@ double inside_face(const double p[3], const double* t, std::size_t stride, doubl
   const double qb[3] = {q[0] - ab[0], q[1] - ab[1], q[2] - ab[2]};
   const double qc[3] = {q[0] - ac[0], q[1] - ac[1], q[2] - ac[2]};
   const double ca[3] = {-ac[0], -ac[1], -ac[2]};
-  const double delta = std::min({inside(ab, q, lab), inside(bc, qb, lbc), inside(ca, qc, lac)});
-  return delta - 1e-6 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + longest);
+  in[0] = inside(ab, q, lab), in[1] = inside(bc, qb, lbc), in[2] = inside(ca, qc, lac);
+  margin = 1e-6 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + longest);
+  return true;
+}
+// The least of face_insides() less the margin (-infinity on a sliver); `worst` (if given)
+// receives its edge.
+double inside_face(const double p[3], const double* t, std::size_t stride, double s,
+                   int* worst = nullptr) {
+  double in[3], margin;
+  if (!face_insides(p, t, stride, s, in, margin)) return -std::numeric_limits<double>::infinity();
+  const int k = in[0] <= in[1] ? (in[0] <= in[2] ? 0 : 2) : (in[1] <= in[2] ? 1 : 2);
+  if (worst) *worst = k;
+  return in[k] - margin;
 }
 }  // namespace
 
 bool ColliderSet::out_of_reach(std::size_t o, const double p[3], double radius_sq) const {
   const Object& ob = objects_[o];
   return ob.kept == 0 || box_dist_sq(ob.lo, ob.hi, p) > radius_sq;
+}
+
+namespace {
+// The edge of triangle t (as face_insides()) that p's foot is beyond (by the margin) with p over
+// its middle (all but kEdgeEnds at either end), else `worst`.
+int edge_over(const double p[3], const double* t, std::size_t stride, double s, int worst) {
+  double in[3], margin;
+  if (!face_insides(p, t, stride, s, in, margin)) return worst;
+  const auto T = [t, stride](int c) { return t[static_cast<std::size_t>(c) * stride]; };
+  const auto corner = [&](int j, int i) { return T(i) + (j == 1 ? T(3 + i) : (j == 2 ? T(6 + i) : 0.0)); };
+  for (int k = 0; k < 3; ++k) {
+    if (!(in[k] < -margin)) continue;
+    double ee = 0.0, ew = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double e = corner((k + 1) % 3, i) - corner(k, i);
+      ee += e * e, ew += e * (p[i] - corner(k, i));
+    }
+    if (ew >= kEdgeEnds * ee && ew <= (1.0 - kEdgeEnds) * ee) return k;
+  }
+  return worst;
+}
+}  // namespace
+
+// Why an edge answer holds (see edge_clearance_of()): p is in front of both faces at the
+// edge, with its feet beyond the edge on both (by the margin), so p - Q, Q its nearest point
+// on the edge's line, lies in the cone of the two normals: p - Q = x n1 + y n2, x, y >= 0,
+// x + y <= 2 d (normals within 120 degrees), d = |p - Q| the distance of both faces. Q is in
+// the edge's middle (kEdgeEnds). A triangle out of the way of the edge has every point X behind both
+// planes up to tau and >= zeta = kEdgeZeta of the edge's length from Q: |p - X|^2 >= d^2 + |X - Q|^2 -
+// 2 (x + y) tau >= d^2 + zeta^2 - 4 d tau >= (d + tau)^2 when zeta^2 >= 6 d tau + tau^2. Every
+// other triangle within d + tau of p is within the clearance of the edge's midpoint. So the
+// answer is one of the two faces (m <= tau is far above the kernel's rounding): the better of
+// their computed distances, then the lower index, as the search picks.
+bool ColliderSet::edge_answer(std::size_t o, std::uint32_t slot, int k, const double p[3],
+                              const double* t1, std::size_t stride1, double s1, double d1,
+                              std::uint32_t nb, const double* t2, double s2, double d2,
+                              double m) const {
+  const double tau = 1e-9 * objects_[o].scale;
+  if (!(m <= tau) || !(s1 > 0.0) || !(s2 > 0.0)) return false;
+  const double rho = static_cast<double>(eclear_at(o, slot, k, nb));
+  if (!(rho > 0.0)) return false;
+  int k2 = 0;
+  while (k2 < 3 && adj_[3 * static_cast<std::size_t>(nb) + static_cast<std::size_t>(k2)] != static_cast<std::int32_t>(slot)) ++k2;
+  if (k2 == 3) return false;
+  double in[3], margin;
+  if (!face_insides(p, t1, stride1, s1, in, margin) || !(in[k] < -margin)) return false;
+  if (!face_insides(p, t2, kBlock, s2, in, margin) || !(in[k2] < -margin)) return false;
+  const auto T = [t1, stride1](int c) { return t1[static_cast<std::size_t>(c) * stride1]; };
+  const auto corner = [&](int j, int i) {  // coordinate i of corner j of the first face
+    return T(i) + (j == 1 ? T(3 + i) : (j == 2 ? T(6 + i) : 0.0));
+  };
+  const int j0 = k, j1 = (k + 1) % 3;
+  double e[3], w[3], mid[3], ee = 0.0, ew = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    e[i] = corner(j1, i) - corner(j0, i), w[i] = p[i] - corner(j0, i);
+    mid[i] = 0.5 * (corner(j0, i) + corner(j1, i));
+    ee += e[i] * e[i], ew += e[i] * w[i];
+  }
+  const double u = ew / ee, len = std::sqrt(ee), zeta = kEdgeZeta * len;
+  if (!(u >= kEdgeEnds + 1e-9 && u <= 1.0 - kEdgeEnds - 1e-9)) return false;
+  const double d = std::max(d1, d2);
+  if (!(zeta * zeta >= 6.0 * d * tau + tau * tau) || !(d <= 2.0 * objects_[o].scale)) return false;
+  const double pm = std::sqrt((p[0] - mid[0]) * (p[0] - mid[0]) + (p[1] - mid[1]) * (p[1] - mid[1]) +
+                              (p[2] - mid[2]) * (p[2] - mid[2]));
+  return pm + d + tau + m < rho;
 }
 
 namespace {
@@ -830,68 +920,49 @@ bool out_of_the_way(const double a[3], const double n[3], const double u[3], con
 constexpr int kClearanceTests = 512;  // triangles tested per triangle at most
 }  // namespace
 
-void ColliderSet::compute_clearances(std::size_t o) {
-  const Object& ob = objects_[o];
-  const auto first = static_cast<std::int64_t>(ob.tri_begin), last = static_cast<std::int64_t>(ob.tri_end);
-  // Each slot's figure depends on nothing else: the same at any thread count.
-#pragma omp parallel for schedule(dynamic, 512) if (last - first > 4096)
-  for (std::int64_t slot = first; slot < last; ++slot)
-    if (orig_[static_cast<std::size_t>(slot)] >= 0)
-      clear_[static_cast<std::size_t>(slot)] = clearance_of(o, static_cast<std::uint32_t>(slot));
-}
 
-float ColliderSet::clearance_of(std::size_t o, std::uint32_t slot) const {
+// The smallest distance from `centre` of a triangle of object o that `in_the_way(slot)`
+// calls in the way (less tau and a rounding margin), nearest boxes first; +infinity when none.
+// A box is not opened when it lies wholly behind every plane n.x <= tight of `planes` (n,
+// tight, loose), or behind every n.x <= loose and at least `far_loose` from the centre: then
+// none of its triangles can be in the way, the callers' tests say. After kClearanceTests
+// triangles, the distance reached.
+template <class InTheWay>
+double ColliderSet::scan_in_the_way(std::size_t o, const double centre[3],
+                                    const double (*planes)[5], int nplanes, double far_loose,
+                                    InTheWay in_the_way) const {
   const Object& ob = objects_[o];
   const double tau = 1e-9 * ob.scale;
-  const auto corners = [this](std::uint32_t g, Eigen::Vector3d c[3]) {
-    const detail::Tri t = tri_at(g);
-    c[0] = Eigen::Vector3d(t.ax, t.ay, t.az);
-    c[1] = c[0] + Eigen::Vector3d(t.bx, t.by, t.bz);
-    c[2] = c[0] + Eigen::Vector3d(t.cx, t.cy, t.cz);
-  };
-  Eigen::Vector3d c[3];
-  corners(slot, c);
-  const detail::Tri tri = tri_at(slot);
-  const double a[3] = {tri.ax, tri.ay, tri.az}, n[3] = {tri.nx, tri.ny, tri.nz};
-  const Eigen::Vector3d uu = (c[1] - c[0]).normalized();
-  const Eigen::Vector3d ww = Eigen::Vector3d(n[0], n[1], n[2]).cross(uu);
-  const double u[3] = {uu.x(), uu.y(), uu.z()}, w[3] = {ww.x(), ww.y(), ww.z()};
-  double t2[3][2];
-  for (int i = 0; i < 3; ++i) {
-    const Eigen::Vector3d v = c[i] - c[0];
-    t2[i][0] = uu.dot(v), t2[i][1] = ww.dot(v);
-  }
-  // Boxes in float (axes orthonormal to 1e-6): a box is wholly behind the plane by tau if
-  // its support along n, plus a margin far above float rounding, is below n.a - tau; its
-  // distance from a is at least sqrt(float d2) (1 - 1e-5) - the margin.
-  const float amax = static_cast<float>(std::max({std::abs(a[0]), std::abs(a[1]), std::abs(a[2])}));
-  const float slack = 4e-6f * (amax + static_cast<float>(ob.scale));
-  const float pf[3] = {static_cast<float>(a[0]), static_cast<float>(a[1]), static_cast<float>(a[2])};
-  const float nf[3] = {static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2])};
-  const auto behind_f = static_cast<float>(n[0] * a[0] + n[1] * a[1] + n[2] * a[2] - tau);
+  // Boxes in float (axes orthonormal to 1e-6): a margin far above float rounding both ways.
+  const float cmax = static_cast<float>(std::max({std::abs(centre[0]), std::abs(centre[1]), std::abs(centre[2])}));
+  const float slack = 4e-6f * (cmax + static_cast<float>(ob.scale));
+  const float pf[3] = {static_cast<float>(centre[0]), static_cast<float>(centre[1]), static_cast<float>(centre[2])};
   double rho = std::numeric_limits<double>::infinity();
   int tested = 0;
-  StackEntry stack[128];  // as in traverse(): depth <= 26, each visit pushes <= 4
-  int top = 0;
-  stack[top++] = StackEntry{ob.root4, 0.0f};
-  while (top > 0) {
-    const StackEntry it = stack[--top];
+  // Nearest first (a heap by box distance), so that after the budget the distance reached is
+  // the radius that was searched.
+  // A fixed heap (queries never allocate): when full, what cannot be pushed bounds rho.
+  constexpr int kHeap = 1024;
+  StackEntry heap[kHeap];
+  int size = 0;
+  const auto farther = [](const StackEntry& x, const StackEntry& y) { return x.d2 > y.d2; };
+  heap[size++] = StackEntry{ob.root4, 0.0f};
+  while (size > 0) {
+    std::pop_heap(heap, heap + size, farther);
+    const StackEntry it = heap[--size];
     const double it_d = static_cast<double>(it.d2);  // here: a distance, not squared
-    if (it_d >= rho) continue;
+    if (it_d >= rho) break;
     if ((it.ref & 7u) != 0) {  // a leaf
       if (tested >= kClearanceTests) {  // every untested triangle is at least this far
         rho = it_d;
-        for (int k = 0; k < top; ++k) rho = std::min(rho, static_cast<double>(stack[k].d2));
         break;
       }
       for (std::uint32_t g = it.ref >> 3, end = g + (it.ref & 7u); g < end; ++g) {
-        if (g == slot || orig_[g] < 0) continue;
+        if (orig_[g] < 0) continue;
         ++tested;
-        Eigen::Vector3d gc[3];
-        corners(g, gc);
-        if (out_of_the_way(a, n, u, w, t2, gc, tau)) continue;
+        if (!in_the_way(g)) continue;
         double s_unused;
-        const double dist = std::sqrt(detail::closest_sq<kBlock>(a, tri_ptr(g), s_unused));
+        const double dist = std::sqrt(detail::closest_sq<kBlock>(centre, tri_ptr(g), s_unused));
         rho = std::min(rho, dist * (1.0 - 1e-9) - tau);
       }
       continue;
@@ -906,31 +977,242 @@ float ColliderSet::clearance_of(std::size_t o, std::uint32_t slot) const {
     const v4f e1 = pos(vabs(a3 * q0 + a4 * q1 + a5 * q2) - h1);
     const v4f e2 = pos(vabs(a6 * q0 + a7 * q1 + a8 * q2) - h2);
     const v4f d2 = e0 * e0 + e1 * e1 + e2 * e2;
-    const v4f support = nf[0] * load4(nd.c[0]) + nf[1] * load4(nd.c[1]) + nf[2] * load4(nd.c[2]) +
-                        h0 * vabs(a0 * nf[0] + a1 * nf[1] + a2 * nf[2]) +
-                        h1 * vabs(a3 * nf[0] + a4 * nf[1] + a5 * nf[2]) +
-                        h2 * vabs(a6 * nf[0] + a7 * nf[1] + a8 * nf[2]);
     const v4f margin = slack + 1e-5f * (h0 + h1 + h2);
-    StackEntry pass[4];
-    int np = 0;
-    for (int k = 0; k < 4; ++k) {
-      if (nd.h[0][k] < 0.0f) continue;                       // an empty lane
-      if (support[k] + margin[k] <= behind_f) continue;      // wholly behind: case (a)
-      const float dk = std::max(std::sqrt(d2[k]) * (1.0f - 1e-5f) - margin[k], 0.0f);
-      if (static_cast<double>(dk) >= rho) continue;
-      int j = np++;
-      for (; j > 0 && pass[j - 1].d2 < dk; --j) pass[j] = pass[j - 1];
-      pass[j] = StackEntry{nd.child[k], dk};
+    v4f tight = {1.0f, 1.0f, 1.0f, 1.0f}, loose = tight;
+    for (int pl = 0; pl < nplanes; ++pl) {
+      const float nf[3] = {static_cast<float>(planes[pl][0]), static_cast<float>(planes[pl][1]),
+                           static_cast<float>(planes[pl][2])};
+      const v4f support = nf[0] * load4(nd.c[0]) + nf[1] * load4(nd.c[1]) + nf[2] * load4(nd.c[2]) +
+                          h0 * vabs(a0 * nf[0] + a1 * nf[1] + a2 * nf[2]) +
+                          h1 * vabs(a3 * nf[0] + a4 * nf[1] + a5 * nf[2]) +
+                          h2 * vabs(a6 * nf[0] + a7 * nf[1] + a8 * nf[2]);
+      tight = support + margin <= static_cast<float>(planes[pl][3]) ? tight : v4f{};
+      loose = support + margin <= static_cast<float>(planes[pl][4]) ? loose : v4f{};
     }
-    for (int k = 0; k < np; ++k) stack[top++] = pass[k];
+    for (int k = 0; k < 4; ++k) {
+      if (nd.h[0][k] < 0.0f) continue;  // an empty lane
+      const float dk = std::max(std::sqrt(d2[k]) * (1.0f - 1e-5f) - margin[k], 0.0f);
+      if (tight[k] > 0.0f || (loose[k] > 0.0f && static_cast<double>(dk) >= far_loose))
+        continue;  // none in the way
+      if (static_cast<double>(dk) >= rho) continue;
+      if (size == kHeap) {
+        rho = std::min(rho, static_cast<double>(dk));
+        continue;
+      }
+      heap[size++] = StackEntry{nd.child[k], dk};
+      std::push_heap(heap, heap + size, farther);
+    }
   }
+  return rho;
+}
+
+namespace {
+float clearance_float(double rho) {
   return rho == std::numeric_limits<double>::infinity() ? std::numeric_limits<float>::infinity()
                                                         : std::max(round_down(rho), 0.0f);
+}
+// The corners of a stored triangle (A, A + AB, A + AC).
+void stored_corners(const detail::Tri& t, Eigen::Vector3d c[3]) {
+  c[0] = Eigen::Vector3d(t.ax, t.ay, t.az);
+  c[1] = c[0] + Eigen::Vector3d(t.bx, t.by, t.bz);
+  c[2] = c[0] + Eigen::Vector3d(t.cx, t.cy, t.cz);
+}
+// Distance between segments p0-p1 and q0-q1 (Ericson, Real-Time Collision Detection 5.1.9).
+double segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                        const Eigen::Vector3d& q0, const Eigen::Vector3d& q1) {
+  const Eigen::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0.0, t = 0.0;
+  if (a <= 1e-300 && e <= 1e-300) return r.norm();
+  if (a <= 1e-300) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= 1e-300) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) t = 0.0, s = std::clamp(-c / a, 0.0, 1.0);
+      else if (t > 1.0) t = 1.0, s = std::clamp((b - c) / a, 0.0, 1.0);
+    }
+  }
+  return ((p0 + s * d1) - (q0 + t * d2)).norm();
+}
+}  // namespace
+
+float ColliderSet::clearance_of(std::size_t o, std::uint32_t slot) const {
+  const double tau = 1e-9 * objects_[o].scale;
+  const detail::Tri tri = tri_at(slot);
+  Eigen::Vector3d c[3];
+  stored_corners(tri, c);
+  const double a[3] = {tri.ax, tri.ay, tri.az}, n[3] = {tri.nx, tri.ny, tri.nz};
+  const Eigen::Vector3d uu = (c[1] - c[0]).normalized();
+  const Eigen::Vector3d ww = Eigen::Vector3d(n[0], n[1], n[2]).cross(uu);
+  const double u[3] = {uu.x(), uu.y(), uu.z()}, w[3] = {ww.x(), ww.y(), ww.z()};
+  double t2[3][2];
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d v = c[i] - c[0];
+    t2[i][0] = uu.dot(v), t2[i][1] = ww.dot(v);
+  }
+  // A box wholly behind the plane by tau holds only triangles out of the way by case (a). One
+  // behind it up to loose = kLooseDepth of the coordinates and far from A holds only triangles
+  // whose points within loose of the plane cast their shadows >= lambda beside the face (the
+  // face is within `longest` of A): a point over the face at height h in [loose, 2 scale] is
+  // >= sqrt((h - loose)^2 + lambda^2) >= h + tau from them (clear_radius() keeps h there).
+  const double scale = objects_[o].scale, loose = kLooseDepth * scale;
+  const double longest = std::max({(c[1] - c[0]).norm(), (c[2] - c[0]).norm(), (c[2] - c[1]).norm()});
+  const double far = longest + std::sqrt(2.0 * (2.0 * scale) * (tau + loose)) + loose;
+  const double na = n[0] * a[0] + n[1] * a[1] + n[2] * a[2];
+  const double planes[1][5] = {{n[0], n[1], n[2], na - tau, na + loose}};
+  return clearance_float(scan_in_the_way(o, a, planes, 1, far, [&](std::uint32_t g) {
+    if (g == slot) return false;
+    Eigen::Vector3d gc[3];
+    stored_corners(tri_at(g), gc);
+    if (out_of_the_way(a, n, u, w, t2, gc, tau)) return false;
+    for (int i = 0; i < 3; ++i)
+      if (n[0] * gc[i].x() + n[1] * gc[i].y() + n[2] * gc[i].z() > na + loose) return true;
+    double s_unused;
+    return !(std::sqrt(detail::closest_sq<kBlock>(a, tri_ptr(g), s_unused)) >= far);
+  }));
+}
+
+// The clearance of the edge between slot's corners k, k + 1 and its neighbour nb, around the
+// edge's midpoint: every other triangle that reaches within it lies behind both faces' planes
+// (up to tau) and at least kEdgeZeta of the edge's length from its middle (kEdgeEnds). 0 when the edge is
+// not convex (a face in front of the other's plane, or normals more than 120 degrees apart).
+// See ColliderSet::edge_answer().
+float ColliderSet::edge_clearance_of(std::size_t o, std::uint32_t slot, int k, std::uint32_t nb) const {
+  const double tau = 1e-9 * objects_[o].scale;
+  const detail::Tri t1 = tri_at(slot), t2 = tri_at(nb);
+  Eigen::Vector3d c1[3], c2[3];
+  stored_corners(t1, c1);
+  stored_corners(t2, c2);
+  const Eigen::Vector3d n1(t1.nx, t1.ny, t1.nz), n2(t2.nx, t2.ny, t2.nz);
+  const double o1 = n1.dot(c1[0]), o2 = n2.dot(c2[0]);
+  if (n1.dot(n2) < -0.5) return 0.0f;
+  for (int i = 0; i < 3; ++i)
+    if (n1.dot(c2[i]) > o1 + tau || n2.dot(c1[i]) > o2 + tau) return 0.0f;
+  const Eigen::Vector3d v0 = c1[k], v1 = c1[(k + 1) % 3], mid = 0.5 * (v0 + v1);
+  const double len = (v1 - v0).norm(), zeta = kEdgeZeta * len;
+  const Eigen::Vector3d s0 = v0 + kEdgeEnds * (v1 - v0), s1 = v1 - kEdgeEnds * (v1 - v0);
+  // Far from the edge a looser depth does: behind both planes up to loose and >= lambda from
+  // the edge, |p - X|^2 >= d^2 + lambda^2 - 4 d loose >= (d + tau)^2 for d <= 2 scale.
+  const double scale = objects_[o].scale, loose = kLooseDepth * scale;
+  const double lambda = std::max(zeta, std::sqrt(4.0 * (2.0 * scale) * loose + 2.0 * (2.0 * scale) * tau + tau * tau));
+  const double far = 0.5 * len + lambda;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double planes[2][5] = {{n1.x(), n1.y(), n1.z(), -inf, o1 + loose}, {n2.x(), n2.y(), n2.z(), -inf, o2 + loose}};
+  const double centre[3] = {mid.x(), mid.y(), mid.z()};
+  return clearance_float(scan_in_the_way(o, centre, planes, 2, far, [&](std::uint32_t g) {
+    if (g == slot || g == nb) return false;
+    Eigen::Vector3d gc[3];
+    stored_corners(tri_at(g), gc);
+    double deep1 = std::numeric_limits<double>::infinity(), deep2 = deep1;
+    for (int i = 0; i < 3; ++i) {
+      const double h1 = n1.dot(gc[i]) - o1, h2 = n2.dot(gc[i]) - o2;
+      deep1 = std::min(deep1, -h1), deep2 = std::min(deep2, -h2);
+    }
+    if (deep1 < -loose || deep2 < -loose) return true;
+    if (deep1 < -tau || deep2 < -tau) {  // only the looser depth: far from the edge?
+      double s_far;
+      return !(std::sqrt(detail::closest_sq<kBlock>(centre, tri_ptr(g), s_far)) >= far);
+    }
+    // Cheap first: a point of the edge is on both planes, so |X - Q| >= either depth of X;
+    // and every point of the edge is within half its length of the midpoint.
+    if (std::max(deep1, deep2) >= zeta) return false;
+    double s_unused;
+    if (std::sqrt(detail::closest_sq<kBlock>(centre, tri_ptr(g), s_unused)) >= 0.5 * len + zeta)
+      return false;
+    const double e0[3] = {s0.x(), s0.y(), s0.z()}, e1[3] = {s1.x(), s1.y(), s1.z()};
+    double dist = std::min(std::sqrt(detail::closest_sq<kBlock>(e0, tri_ptr(g), s_unused)),
+                    std::sqrt(detail::closest_sq<kBlock>(e1, tri_ptr(g), s_unused)));
+    for (int i = 0; i < 3; ++i) dist = std::min(dist, segment_distance(s0, s1, gc[i], gc[(i + 1) % 3]));
+    return !(dist >= zeta);
+  }));
+}
+
+void ColliderSet::prepare_clearances() const {
+  for (std::size_t o = 0; o < objects_.size(); ++o)
+    for (std::uint32_t slot = objects_[o].tri_begin; slot < objects_[o].tri_end; ++slot) {
+      if (orig_[slot] < 0) continue;
+      clear_at(o, slot);
+      for (int k = 0; k < 3; ++k) {
+        const std::int32_t nb = adj_[3 * static_cast<std::size_t>(slot) + static_cast<std::size_t>(k)];
+        if (nb >= 0) eclear_at(o, slot, k, static_cast<std::uint32_t>(nb));
+      }
+    }
+}
+
+float ColliderSet::clear_at(std::size_t o, std::uint32_t slot) const {
+  std::atomic_ref<float> c(clear_[slot]);
+  float v = c.load(std::memory_order_relaxed);
+  if (std::isnan(v)) {  // first use: compute (two threads may both; they store the same)
+    v = clearance_of(o, slot);
+    c.store(v, std::memory_order_relaxed);
+  }
+  return v;
+}
+
+float ColliderSet::eclear_at(std::size_t o, std::uint32_t slot, int k, std::uint32_t nb) const {
+  std::atomic_ref<float> c(eclear_[3 * static_cast<std::size_t>(slot) + static_cast<std::size_t>(k)]);
+  float v = c.load(std::memory_order_relaxed);
+  if (std::isnan(v)) {
+    v = edge_clearance_of(o, slot, k, nb);
+    c.store(v, std::memory_order_relaxed);
+  }
+  return v;
+}
+
+
+void ColliderSet::compute_adjacency(std::size_t o) {
+  const Object& ob = objects_[o];
+  // Vertices by position: equal coordinates get one id.
+  const auto nv = static_cast<std::size_t>(ob.vertices.cols());
+  std::vector<std::uint32_t> order(nv), id(nv);
+  for (std::size_t i = 0; i < nv; ++i) order[i] = static_cast<std::uint32_t>(i);
+  const auto less = [&](std::uint32_t a, std::uint32_t b) {
+    const auto va = ob.vertices.col(a), vb = ob.vertices.col(b);
+    return std::lexicographical_compare(va.data(), va.data() + 3, vb.data(), vb.data() + 3);
+  };
+  std::sort(order.begin(), order.end(), less);
+  for (std::size_t i = 0, next = 0; i < nv; ++i) {
+    if (i > 0 && less(order[i - 1], order[i])) ++next;
+    id[order[i]] = static_cast<std::uint32_t>(next);
+  }
+  // Every edge of every kept triangle, keyed by its two corner ids; an edge of exactly two
+  // triangles joins them.
+  struct Half {
+    std::uint32_t lo, hi, slot, edge;
+  };
+  std::vector<Half> halves;
+  halves.reserve(3 * ob.kept);
+  for (std::uint32_t slot = ob.tri_begin; slot < ob.tri_end; ++slot) {
+    if (orig_[slot] < 0) continue;
+    const auto t = static_cast<std::size_t>(orig_[slot]);
+    for (std::uint32_t e = 0; e < 3; ++e) {
+      const std::uint32_t a = id[ob.indices[3 * t + e]], b = id[ob.indices[3 * t + (e + 1) % 3]];
+      halves.push_back(Half{std::min(a, b), std::max(a, b), slot, e});
+    }
+  }
+  std::sort(halves.begin(), halves.end(), [](const Half& x, const Half& y) {
+    return x.lo != y.lo ? x.lo < y.lo : (x.hi != y.hi ? x.hi < y.hi : x.slot < y.slot);
+  });
+  for (std::size_t i = 0; i < halves.size();) {
+    std::size_t j = i + 1;
+    while (j < halves.size() && halves[j].lo == halves[i].lo && halves[j].hi == halves[i].hi) ++j;
+    if (j - i == 2 && halves[i].slot != halves[i + 1].slot) {
+      adj_[3 * halves[i].slot + halves[i].edge] = static_cast<std::int32_t>(halves[i + 1].slot);
+      adj_[3 * halves[i + 1].slot + halves[i + 1].edge] = static_cast<std::int32_t>(halves[i].slot);
+    }
+    i = j;
+  }
 }
 
 double ColliderSet::clearance(std::size_t o, std::size_t t) const {
   const std::int32_t slot = objects_.at(o).input_to_kept.at(t);
-  return slot < 0 ? 0.0 : static_cast<double>(clear_[static_cast<std::size_t>(slot)]);
+  return slot < 0 ? 0.0 : static_cast<double>(clear_at(o, static_cast<std::uint32_t>(slot)));
 }
 
 // Why a clear face certificate holds (see clearance()): within r of p, a point P stays over
@@ -943,12 +1225,16 @@ double ColliderSet::clearance(std::size_t o, std::size_t t) const {
 // and its computed distance is the face branch's |n.(P - A)|: the same bits as the search.
 double ColliderSet::clear_radius(std::size_t o, std::uint32_t slot, const double p[3],
                                  const double* t, std::size_t stride, double d, double s,
-                                 double m, double reach) const {
-  const double rho = static_cast<double>(clear_[slot]);
-  const double tau = 1e-9 * objects_[o].scale;
-  if (!(rho > 0.0) || !(m <= tau) || !(s > 0.0)) return -1.0;
+                                 double m, double reach, int* beyond) const {
+  const double tau = 1e-9 * objects_[o].scale, loose = kLooseDepth * objects_[o].scale;
+  if (!(m <= tau) || !(s > 0.0) || !(reach <= 2.0 * objects_[o].scale)) return -1.0;
+  const double rho = static_cast<double>(clear_at(o, slot));
+  if (!(rho > 0.0)) return -1.0;
   const double mu_min = tau + 2.0 * std::sqrt(reach * tau);
-  const double r = std::min(inside_face(p, t, stride, s) - mu_min, std::min(s - 2.0 * tau, reach - d - m));
+  int worst = -1;
+  const double inside = inside_face(p, t, stride, s, &worst);
+  if (beyond && inside < 0.0) *beyond = worst;  // the foot is beyond this edge
+  const double r = std::min(inside - mu_min, std::min(s - 2.0 * loose, reach - d - m));
   if (!(r > 0.0)) return r;
   const auto T = [t, stride](int k) { return t[static_cast<std::size_t>(k) * stride]; };
   const double pa = std::sqrt((p[0] - T(0)) * (p[0] - T(0)) + (p[1] - T(1)) * (p[1] - T(1)) +
@@ -1157,8 +1443,56 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
     if (s > 0.0) {
       // A clear face (see clear_radius()): the answer whatever the list says, and a record
       // that lasts while the point stays over the face, however near the other triangles tie.
-      const double r = clear_radius(o, cache.slots[ei * cache.candidates()], p, n - 9 * stride,
-                                    stride, d, s, m, reach);
+      int beyond = -1;
+      const std::uint32_t slot0 = cache.slots[ei * cache.candidates()];
+      double r = clear_radius(o, slot0, p, n - 9 * stride, stride, d, s, m, reach, &beyond);
+      if (!(r > 0.0) && beyond >= 0 && ob.kept > kCopyAbove) {
+        // The point has left the face: try the face across the edge it crossed, and that
+        // edge. Only on large colliders: on a fine mesh nearly equidistant triangles tie
+        // within microns and lists die young; on a small one the list answers for less (and
+        // it is moved along with the point, which this is not). The edge: one the foot is
+        // beyond whose middle the point is over (high over a fine mesh the foot is beyond
+        // several), else the one it is farthest beyond.
+        beyond = edge_over(p, n - 9 * stride, stride, s, beyond);
+        const std::int32_t nb = adj_[3 * static_cast<std::size_t>(slot0) + static_cast<std::size_t>(beyond)];
+        if (nb >= 0) {
+          const double* tn = tri_ptr(static_cast<std::uint32_t>(nb));
+          double sn;
+          const double d2n = detail::closest_sq<kBlock>(p, tn, sn);
+          if (d2n <= radius_sq && sn > 0.0) {
+            const double dn = std::sqrt(d2n);
+            r = clear_radius(o, static_cast<std::uint32_t>(nb), p, tn, kBlock, dn, sn, m, reach, nullptr);
+            if (!(r > 0.0) && edge_answer(o, slot0, beyond, p, n - 9 * stride, stride, s, d,
+                                          static_cast<std::uint32_t>(nb), tn, sn, dn, m)) {
+              // Over the edge between the two faces: the better of the two is the answer.
+              const std::int32_t idx_n = orig_[static_cast<std::size_t>(nb)];
+              if (better(d2n, idx_n, d2, e.tri_index)) d = dn, s = sn, n = tn + 9 * kBlock, stride = kBlock;
+              hit = true;
+              signed_distance = detail::signed_from(d, s);
+              normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
+              if (e.age < kMinAge) ++e.age;
+              return true;
+            }
+            if (r > 0.0) {
+              // It is the answer. It becomes the entry's first candidate, in a list that
+              // certifies nothing by itself (every other triangle >= 0 away): the next calls
+              // try its clear face first; when that fails, a search makes a real list.
+              d2 = d2n, d = dn, s = sn, n = tn + 9 * kBlock, stride = kBlock;
+              std::uint32_t* cs = cache.slots.data() + ei * cache.candidates();
+              float* cw = cache.lower.data() + ei * cache.candidates();
+              cs[0] = static_cast<std::uint32_t>(nb);
+              cw[0] = round_down(dn - m);
+              e.count = 1, e.others_lb = 0.0, e.settled = 1;
+              e.x0[0] = p[0], e.x0[1] = p[1], e.x0[2] = p[2];
+              e.tri_index = orig_[static_cast<std::size_t>(nb)];
+              if (ob.kept > kCopyAbove) {
+                const detail::Tri tt = tri_at(static_cast<std::uint32_t>(nb));
+                std::memcpy(cache.firsts.data() + 12 * ei, &tt, sizeof tt);
+              }
+            }
+          }
+        }
+      }
       if (r > 0.0) {
         hit = true;
         signed_distance = detail::signed_from(d, s);

@@ -209,11 +209,12 @@ struct ColliderSet {
   Eigen::Vector3d bounds_min() const { return lo_; }
   Eigen::Vector3d bounds_max() const { return hi_; }
   std::size_t bvh_node_count() const { return nodes4_.size(); }  ///< 4-wide nodes
-  /// Bytes held by the query structures (triangle blocks, nodes, slot map, clearances), not
-  /// the input copy.
+  /// Bytes held by the query structures (triangle blocks, nodes, slot map, clearances, edge
+  /// neighbours), not the input copy.
   std::size_t bvh_bytes() const {
     return tri_.size() * sizeof(double) + nodes4_.size() * sizeof(Node4) +
-           orig_.size() * sizeof(std::int32_t) + clear_.size() * sizeof(float);
+           orig_.size() * sizeof(std::int32_t) + clear_.size() * sizeof(float) +
+           adj_.size() * sizeof(std::int32_t) + eclear_.size() * sizeof(float);
   }
   /// The clearance of input triangle t of object o (0 for a dropped one): every other
   /// triangle of the object that reaches within this distance of the triangle's first corner
@@ -222,9 +223,13 @@ struct ColliderSet {
   /// line). Then a point over the face, in front of it, is nearer to it than to any such
   /// triangle, wherever over the face it is (the face's outer Voronoi region, as on a convex
   /// mesh): the "clear face" certificate, which does not shrink with the gaps between nearly
-  /// equidistant triangles. +infinity when no triangle fails; computed by build() (nearest
-  /// triangles first, at most 512 tested per triangle: then the distance reached).
+  /// equidistant triangles. +infinity when no triangle fails. Computed when first needed
+  /// (nearest triangles first, at most 512 tested per triangle: then the distance reached).
   double clearance(std::size_t o, std::size_t t) const;
+  /// Computes every triangle's and edge's clearance now instead of when first needed (each
+  /// costs a few microseconds once: ~0.5 s for 82k triangles): for steady step times from
+  /// the first step on, and for benchmarks of the steady state. Only the speed depends on it.
+  void prepare_clearances() const;
 
   /// Per object, the closest kept triangle with distance <= radius. `out` must have
   /// object_count() entries; entries of objects with nothing in reach get object = -1.
@@ -349,17 +354,40 @@ struct ColliderSet {
   /// Where slot's 12 components start (component k at [k * 4]).
   const double* tri_ptr(std::uint32_t slot) const;
   std::vector<std::int32_t> orig_;     ///< per slot: input triangle index in its object, -1 unused
-  /// Per slot: clearance() rounded down (0 for unused slots), around the slot's corner A.
-  std::vector<float> clear_;
-  void compute_clearances(std::size_t o);
+  /// Per slot: clearance() rounded down, around the slot's corner A; NaN until first needed
+  /// (clear_at() computes it then and stores it atomically: a pure function of the static
+  /// collider, so threads that race store the same figure).
+  mutable std::vector<float> clear_;
+  float clear_at(std::size_t o, std::uint32_t slot) const;
   float clearance_of(std::size_t o, std::uint32_t slot) const;
   /// The radius of a "clear face" certificate at p for the triangle at `slot` (its data at t,
   /// component k at t[k * stride]), the answer's candidate at distance d with plane distance
   /// s > 0; <= 0 when it cannot be made (p not over the face by enough, too near the face's
   /// plane, or too near a triangle within the clearance). Within it, the triangle is the
   /// object's answer over its face (the kernel's face branch), strictly nearer than any other.
+  /// `beyond` (if given) receives the edge (0: A-B, 1: B-C, 2: C-A) whose far side the foot
+  /// of p is on, if any.
   double clear_radius(std::size_t o, std::uint32_t slot, const double p[3], const double* t,
-                      std::size_t stride, double d, double s, double m, double reach) const;
+                      std::size_t stride, double d, double s, double m, double reach,
+                      int* beyond) const;
+  /// Per slot, the slots of the triangles across its edges A-B, B-C, C-A (-1: none, or not
+  /// exactly one): corners matched by position, so an export with split vertices still joins.
+  std::vector<std::int32_t> adj_;
+  void compute_adjacency(std::size_t o);
+  /// Per slot and edge (as adj_), the edge's clearance around its midpoint (0: none; see
+  /// edge_clearance_of()); NaN until first needed, as clear_.
+  mutable std::vector<float> eclear_;
+  float eclear_at(std::size_t o, std::uint32_t slot, int k, std::uint32_t nb) const;
+  float edge_clearance_of(std::size_t o, std::uint32_t slot, int k, std::uint32_t nb) const;
+  /// Whether p, in front of the face at `slot` (data t1, plane distance s1, distance d1) and
+  /// of its neighbour nb across edge k (t2 in place, s2, d2), over that edge, is answered by
+  /// one of the two: then the better of them (distance, then index) is the object's answer.
+  bool edge_answer(std::size_t o, std::uint32_t slot, int k, const double p[3], const double* t1,
+                   std::size_t stride1, double s1, double d1, std::uint32_t nb, const double* t2,
+                   double s2, double d2, double m) const;
+  template <class InTheWay>
+  double scan_in_the_way(std::size_t o, const double centre[3], const double (*planes)[5],
+                         int nplanes, double far_loose, InTheWay in_the_way) const;
   std::size_t kept_total_ = 0;
   std::uint32_t collapse(std::uint32_t binary);
   /// query_cached()'s search and renewal of entry ei (kept out of its fast path).
