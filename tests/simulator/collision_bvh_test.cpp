@@ -40,6 +40,22 @@ Eigen::Matrix3Xd shell_points(Eigen::Index n, std::uint64_t seed, double lo, dou
   return x;
 }
 
+// Points in a shell lo <= |x| <= hi about an icosphere of radius 1, turned about the x axis
+// by `angle` per call (rot), with a default ContactCache sized for them.
+struct TurningShell {
+  ColliderSet set;
+  Eigen::Matrix3Xd x;
+  Eigen::Matrix3d rot;
+  clothsim::ContactCache cache;
+};
+TurningShell turning_shell(int level, Eigen::Index n, std::uint64_t seed, double lo, double hi,
+                           double angle) {
+  TurningShell t{sphere_set(level, 1.0), shell_points(n, seed, lo, hi),
+                 Eigen::AngleAxisd(angle, Vector3d::UnitX()).toRotationMatrix(), {}};
+  t.cache.resize(static_cast<std::size_t>(n), 1);
+  return t;
+}
+
 // A random scene: an icosphere, a noisy floor, a soup of random triangles (some degenerate,
 // some duplicated) of varied sizes.
 ColliderSet random_scene(std::mt19937_64& rng, const Vector3d& offset = Vector3d::Zero()) {
@@ -338,11 +354,8 @@ TEST(CollisionBvh, CandidateCacheTiesAndReachOnAFlatGrid) {
 TEST(CollisionBvh, CandidateCachePenaltyBitIdenticalWhileSliding) {
   // accumulate_penalty() with the default ContactCache vs brute force on an icosphere, the
   // points turning about an axis through its centre (monotonic, as in the benchmark).
-  const ColliderSet set = sphere_set(3, 1.0);
-  Eigen::Matrix3Xd x = shell_points(400, 7, 0.85, 1.15);
-  const Eigen::Matrix3d rot = Eigen::AngleAxisd(1e-3, Vector3d::UnitX()).toRotationMatrix();
-  clothsim::ContactCache cache;
-  cache.resize(static_cast<std::size_t>(x.cols()), 1);
+  TurningShell shell = turning_shell(3, 400, 7, 0.85, 1.15, 1e-3);
+  auto& [set, x, rot, cache] = shell;
   EXPECT_EQ(cache.candidates(), clothsim::ContactCache::kDefaultCandidates);
   std::size_t certified = 0, contacts = 0;
   for (int round = 0; round < 60; ++round) {
@@ -722,11 +735,8 @@ TEST(CollisionBvh, ClearanceIsTheDistanceToTheNearestTriangleInTheWay) {
 // bit for bit at every call.
 TEST(CollisionBvh, ClearFaceCertificatesSlideOverASphereAndIntoACorner) {
   {
-    const ColliderSet set = sphere_set(4, 1.0);
-    Eigen::Matrix3Xd x = shell_points(300, 11, 1.0, 1.1);
-    const Eigen::Matrix3d rot = Eigen::AngleAxisd(2e-4, Vector3d::UnitX()).toRotationMatrix();
-    clothsim::ContactCache cache;
-    cache.resize(static_cast<std::size_t>(x.cols()), 1);
+    TurningShell shell = turning_shell(4, 300, 11, 1.0, 1.1, 2e-4);
+    auto& [set, x, rot, cache] = shell;
     std::size_t certified = 0, pairs = 0;
     for (int call = 0; call < 120 && !HasFailure(); ++call) {
       x = rot * x;
