@@ -153,7 +153,7 @@ constexpr double kEdgeEnds = 0.02, kEdgeZeta = 0.005;
 // Clearances: the looser depth (of the coordinates) allowed far from a face or an edge, so that
 // boxes of a plane's own triangles (a floor, a roof's slope: float boxes cannot tell tau) need
 // not be opened; and the largest reach or distance (of the coordinates' scale, 2) it holds for.
-constexpr double kLooseDepth = 1e-4;
+constexpr double kLooseDepth = 2e-5;
 
 // Total order for "closest": distance, then lowest input triangle index.
 inline bool better(double d2, std::int32_t tri, double best_d2, std::int32_t best_tri) {
@@ -1102,8 +1102,9 @@ float ColliderSet::edge_clearance_of(std::size_t o, std::uint32_t slot, int k, s
   const double scale = objects_[o].scale, loose = kLooseDepth * scale;
   const double lambda = std::max(zeta, std::sqrt(4.0 * (2.0 * scale) * loose + 2.0 * (2.0 * scale) * tau + tau * tau));
   const double far = 0.5 * len + lambda;
-  const double inf = std::numeric_limits<double>::infinity();
-  const double planes[2][5] = {{n1.x(), n1.y(), n1.z(), -inf, o1 + loose}, {n2.x(), n2.y(), n2.z(), -inf, o2 + loose}};
+  // A box behind both planes by zeta holds only triangles out of the way (|X - Q| >= a depth).
+  const double planes[2][5] = {{n1.x(), n1.y(), n1.z(), o1 - zeta, o1 + loose},
+                               {n2.x(), n2.y(), n2.z(), o2 - zeta, o2 + loose}};
   const double centre[3] = {mid.x(), mid.y(), mid.z()};
   return clearance_float(scan_in_the_way(o, centre, planes, 2, far, [&](std::uint32_t g) {
     if (g == slot || g == nb) return false;
@@ -1159,8 +1160,14 @@ float ColliderSet::eclear_at(std::size_t o, std::uint32_t slot, int k, std::uint
   std::atomic_ref<float> c(eclear_[3 * static_cast<std::size_t>(slot) + static_cast<std::size_t>(k)]);
   float v = c.load(std::memory_order_relaxed);
   if (std::isnan(v)) {
-    v = edge_clearance_of(o, slot, k, nb);
+    // One figure per edge, computed from its lower slot's side (the same whichever side
+    // asks first), stored on both sides.
+    std::size_t k2 = 0;
+    while (k2 < 3 && adj_[3 * static_cast<std::size_t>(nb) + k2] != static_cast<std::int32_t>(slot)) ++k2;
+    v = slot < nb || k2 == 3 ? edge_clearance_of(o, slot, k, nb)
+                             : edge_clearance_of(o, nb, static_cast<int>(k2), slot);
     c.store(v, std::memory_order_relaxed);
+    if (k2 < 3) std::atomic_ref<float>(eclear_[3 * static_cast<std::size_t>(nb) + k2]).store(v, std::memory_order_relaxed);
   }
   return v;
 }

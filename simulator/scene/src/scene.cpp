@@ -98,7 +98,7 @@ Model build_model(const b2o::Scene& scene, const Options& options) {
     colliders->build();
     // Every clearance now rather than when the cloth first reaches each triangle: steady step
     // times from the first step (a few microseconds per triangle: milliseconds for the baked
-    // scenes, ~0.5 s for 82k triangles). docs/collision.md, "When clearances are computed".
+    // scenes, ~0.75 s for 82k triangles). docs/collision.md, "When clearances are computed".
     colliders->prepare_clearances();
     builder.set_colliders(std::move(colliders));
   }
