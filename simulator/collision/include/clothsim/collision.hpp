@@ -102,7 +102,8 @@ struct ContactCache {
   /// does, so the same bits), or no force and nothing counted (r2 < 0: nothing in reach, or
   /// the answer beyond the band on its front side, see ColliderSet::make_far). r2 = 0: none.
   /// Made from a holding list certificate (its lower bounds, less what the point moved) and
-  /// the face's edges, with rounding margins, for one band (`band`).
+  /// the face's edges, or from a clear face (ColliderSet::clearance(): no gap to keep), with
+  /// rounding margins, for one band (`band`).
   struct alignas(64) Plane {
     double a[3] = {0.0, 0.0, 0.0};
     double n[3] = {0.0, 0.0, 0.0};
