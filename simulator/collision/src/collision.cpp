@@ -799,17 +799,28 @@ bool face_insides(const double p[3], const double* t, std::size_t stride, double
   margin = 1e-6 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + longest);
   return true;
 }
-// The least of face_insides() less the margin (-infinity on a sliver); `worst` (if given)
-// receives its edge.
-double inside_face(const double p[3], const double* t, std::size_t stride, double s,
-                   int* worst = nullptr) {
+// The edge whose in[] is least.
+int least_edge(const double in[3]) {
+  return in[0] <= in[1] ? (in[0] <= in[2] ? 0 : 2) : (in[1] <= in[2] ? 1 : 2);
+}
+// The least of face_insides() less the margin (-infinity on a sliver).
+double inside_face(const double p[3], const double* t, std::size_t stride, double s) {
   double in[3], margin;
   if (!face_insides(p, t, stride, s, in, margin)) return -std::numeric_limits<double>::infinity();
-  const int k = in[0] <= in[1] ? (in[0] <= in[2] ? 0 : 2) : (in[1] <= in[2] ? 1 : 2);
-  if (worst) *worst = k;
-  return in[k] - margin;
+  return in[least_edge(in)] - margin;
 }
 }  // namespace
+
+// face_insides() of one face at one point, computed once for the checks that need it.
+[[gnu::always_inline]] inline bool ColliderSet::Feet::of(const double p[3], const double* t, std::size_t stride, double s) {
+  if (!known) known = true, sliver = !face_insides(p, t, stride, s, in, margin);
+  return !sliver;
+}
+int ColliderSet::Feet::beyond() const {
+  if (!known || sliver) return -1;
+  const int k = least_edge(in);
+  return in[k] - margin < 0.0 ? k : -1;
+}
 
 bool ColliderSet::out_of_reach(std::size_t o, const double p[3], double radius_sq) const {
   const Object& ob = objects_[o];
@@ -817,11 +828,11 @@ bool ColliderSet::out_of_reach(std::size_t o, const double p[3], double radius_s
 }
 
 namespace {
-// The edge of triangle t (as face_insides()) that p's foot is beyond (by the margin) with p over
-// its middle (all but kEdgeEnds at either end), else `worst`.
-int edge_over(const double p[3], const double* t, std::size_t stride, double s, int worst) {
-  double in[3], margin;
-  if (!face_insides(p, t, stride, s, in, margin)) return worst;
+// The edge of triangle t that p's foot (`feet`, known) is beyond by the margin with p over its
+// middle (all but kEdgeEnds at either end), else the one it is farthest beyond (feet.beyond()).
+int edge_over(const double p[3], const double* t, std::size_t stride, const ColliderSet::Feet& feet) {
+  const double* in = feet.in;
+  const double margin = feet.margin;
   const auto T = [t, stride](int c) { return t[static_cast<std::size_t>(c) * stride]; };
   const auto corner = [&](int j, int i) { return T(i) + (j == 1 ? T(3 + i) : (j == 2 ? T(6 + i) : 0.0)); };
   for (int k = 0; k < 3; ++k) {
@@ -833,7 +844,7 @@ int edge_over(const double p[3], const double* t, std::size_t stride, double s, 
     }
     if (ew >= kEdgeEnds * ee && ew <= (1.0 - kEdgeEnds) * ee) return k;
   }
-  return worst;
+  return feet.beyond();
 }
 }  // namespace
 
@@ -849,8 +860,8 @@ int edge_over(const double p[3], const double* t, std::size_t stride, double s, 
 // their computed distances, then the lower index, as the search picks.
 bool ColliderSet::edge_answer(std::size_t o, std::uint32_t slot, int k, const double p[3],
                               const double* t1, std::size_t stride1, double s1, double d1,
-                              std::uint32_t nb, const double* t2, double s2, double d2,
-                              double m) const {
+                              Feet& feet1, std::uint32_t nb, const double* t2, double s2,
+                              double d2, Feet& feet2, double m) const {
   const double tau = 1e-9 * objects_[o].scale;
   if (!(m <= tau) || !(s1 > 0.0) || !(s2 > 0.0)) return false;
   const double rho = static_cast<double>(eclear_at(o, slot, k, nb));
@@ -858,9 +869,8 @@ bool ColliderSet::edge_answer(std::size_t o, std::uint32_t slot, int k, const do
   int k2 = 0;
   while (k2 < 3 && adj_[3 * static_cast<std::size_t>(nb) + static_cast<std::size_t>(k2)] != static_cast<std::int32_t>(slot)) ++k2;
   if (k2 == 3) return false;
-  double in[3], margin;
-  if (!face_insides(p, t1, stride1, s1, in, margin) || !(in[k] < -margin)) return false;
-  if (!face_insides(p, t2, kBlock, s2, in, margin) || !(in[k2] < -margin)) return false;
+  if (!feet1.of(p, t1, stride1, s1) || !(feet1.in[k] < -feet1.margin)) return false;
+  if (!feet2.of(p, t2, kBlock, s2) || !(feet2.in[k2] < -feet2.margin)) return false;
   const auto T = [t1, stride1](int c) { return t1[static_cast<std::size_t>(c) * stride1]; };
   const auto corner = [&](int j, int i) {  // coordinate i of corner j of the first face
     return T(i) + (j == 1 ? T(3 + i) : (j == 2 ? T(6 + i) : 0.0));
@@ -1232,15 +1242,14 @@ double ColliderSet::clearance(std::size_t o, std::size_t t) const {
 // and its computed distance is the face branch's |n.(P - A)|: the same bits as the search.
 double ColliderSet::clear_radius(std::size_t o, std::uint32_t slot, const double p[3],
                                  const double* t, std::size_t stride, double d, double s,
-                                 double m, double reach, int* beyond) const {
+                                 double m, double reach, Feet& feet) const {
   const double tau = 1e-9 * objects_[o].scale, loose = kLooseDepth * objects_[o].scale;
   if (!(m <= tau) || !(s > 0.0) || !(reach <= 2.0 * objects_[o].scale)) return -1.0;
   const double rho = static_cast<double>(clear_at(o, slot));
   if (!(rho > 0.0)) return -1.0;
   const double mu_min = tau + 2.0 * std::sqrt(reach * tau);
-  int worst = -1;
-  const double inside = inside_face(p, t, stride, s, &worst);
-  if (beyond && inside < 0.0) *beyond = worst;  // the foot is beyond this edge
+  if (!feet.of(p, t, stride, s)) return -1.0;
+  const double inside = std::min({feet.in[0], feet.in[1], feet.in[2]}) - feet.margin;
   const double r = std::min(inside - mu_min, std::min(s - 2.0 * loose, reach - d - m));
   if (!(r > 0.0)) return r;
   const auto T = [t, stride](int k) { return t[static_cast<std::size_t>(k) * stride]; };
@@ -1450,55 +1459,25 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
     if (s > 0.0) {
       // A clear face (see clear_radius()): the answer whatever the list says, and a record
       // that lasts while the point stays over the face, however near the other triangles tie.
-      int beyond = -1;
+      Feet feet;  // of the first candidate at p
       const std::uint32_t slot0 = cache.slots[ei * cache.candidates()];
-      double r = clear_radius(o, slot0, p, n - 9 * stride, stride, d, s, m, reach, &beyond);
-      if (!(r > 0.0) && beyond >= 0 && ob.kept > kCopyAbove) {
-        // The point has left the face: try the face across the edge it crossed, and that
-        // edge. Only on large colliders: on a fine mesh nearly equidistant triangles tie
-        // within microns and lists die young; on a small one the list answers for less (and
-        // it is moved along with the point, which this is not). The edge: one the foot is
-        // beyond whose middle the point is over (high over a fine mesh the foot is beyond
-        // several), else the one it is farthest beyond.
-        beyond = edge_over(p, n - 9 * stride, stride, s, beyond);
-        const std::int32_t nb = adj_[3 * static_cast<std::size_t>(slot0) + static_cast<std::size_t>(beyond)];
-        if (nb >= 0) {
-          const double* tn = tri_ptr(static_cast<std::uint32_t>(nb));
-          double sn;
-          const double d2n = detail::closest_sq<kBlock>(p, tn, sn);
-          if (d2n <= radius_sq && sn > 0.0) {
-            const double dn = std::sqrt(d2n);
-            r = clear_radius(o, static_cast<std::uint32_t>(nb), p, tn, kBlock, dn, sn, m, reach, nullptr);
-            if (!(r > 0.0) && edge_answer(o, slot0, beyond, p, n - 9 * stride, stride, s, d,
-                                          static_cast<std::uint32_t>(nb), tn, sn, dn, m)) {
-              // Over the edge between the two faces: the better of the two is the answer.
-              const std::int32_t idx_n = orig_[static_cast<std::size_t>(nb)];
-              if (better(d2n, idx_n, d2, e.tri_index)) d = dn, s = sn, n = tn + 9 * kBlock, stride = kBlock;
-              hit = true;
-              signed_distance = detail::signed_from(d, s);
-              normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
-              if (e.age < kMinAge) ++e.age;
-              return true;
-            }
-            if (r > 0.0) {
-              // It is the answer. It becomes the entry's first candidate, in a list that
-              // certifies nothing by itself (every other triangle >= 0 away): the next calls
-              // try its clear face first; when that fails, a search makes a real list.
-              d2 = d2n, d = dn, s = sn, n = tn + 9 * kBlock, stride = kBlock;
-              std::uint32_t* cs = cache.slots.data() + ei * cache.candidates();
-              float* cw = cache.lower.data() + ei * cache.candidates();
-              cs[0] = static_cast<std::uint32_t>(nb);
-              cw[0] = round_down(dn - m);
-              e.count = 1, e.others_lb = 0.0, e.settled = 1;
-              e.x0[0] = p[0], e.x0[1] = p[1], e.x0[2] = p[2];
-              e.tri_index = orig_[static_cast<std::size_t>(nb)];
-              if (ob.kept > kCopyAbove) {
-                const detail::Tri tt = tri_at(static_cast<std::uint32_t>(nb));
-                std::memcpy(cache.firsts.data() + 12 * ei, &tt, sizeof tt);
-              }
-            }
-          }
+      double r = clear_radius(o, slot0, p, n - 9 * stride, stride, d, s, m, reach, feet);
+      if (!(r > 0.0) && feet.beyond() >= 0 && ob.kept > kCopyAbove) {
+        // The point has left the face: the face across the edge it crossed, or that edge
+        // (walk_on(); only on large colliders: on a fine mesh nearly equidistant triangles
+        // tie within microns and lists die young; on a small one the list answers for less,
+        // and it is moved along with the point, which an edge answer is not).
+        const double* t = n - 9 * stride;
+        const int walked = walk_on(o, p, radius_sq, reach, m, cache, ei, slot0, feet, d2, d, s, t, stride, r);
+        if (walked == 2) {  // over the edge: t is the better of the two faces
+          n = t + 9 * stride;
+          hit = true;
+          signed_distance = detail::signed_from(d, s);
+          normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
+          if (e.age < kMinAge) ++e.age;
+          return true;
         }
+        n = t + 9 * stride;  // walked == 1: the neighbour, with its record radius r
       }
       if (r > 0.0) {
         hit = true;
@@ -1559,6 +1538,48 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
   }
   if (e.age < kMinAge) ++e.age;
   return true;
+}
+
+// certify_inline()'s walk from the first candidate (slot0; its data t with stride, d2, d, s at
+// p; `feet` known and beyond an edge): 1 when the face across the edge the point is over
+// answers by its clear face (it becomes the entry's first candidate; d2, d, s, t, stride and
+// r are its), 2 when the edge answers (d2, d, s, t, stride: the better face), else 0.
+int ColliderSet::walk_on(std::size_t o, const double p[3], double radius_sq, double reach, double m,
+                         ContactCache& cache, std::size_t ei, std::uint32_t slot0, Feet& feet,
+                         double& d2, double& d, double& s, const double*& t, std::size_t& stride,
+                         double& r) const {
+  const int beyond = edge_over(p, t, stride, feet);
+  const std::int32_t nb = adj_[3 * static_cast<std::size_t>(slot0) + static_cast<std::size_t>(beyond)];
+  if (nb < 0) return 0;
+  const auto nbu = static_cast<std::uint32_t>(nb);
+  const double* tn = tri_ptr(nbu);
+  double sn;
+  const double d2n = detail::closest_sq<kBlock>(p, tn, sn);
+  if (!(d2n <= radius_sq && sn > 0.0)) return 0;
+  const double dn = std::sqrt(d2n);
+  Feet feet_n;
+  ContactCache::Entry& e = cache.entries[ei];
+  const double rn = clear_radius(o, nbu, p, tn, kBlock, dn, sn, m, reach, feet_n);
+  if (rn > 0.0) {
+    // It is the answer. It becomes the entry's first candidate, in a list that certifies
+    // nothing by itself (every other triangle >= 0 away): the next calls try its clear face
+    // first; when that fails, a search makes a real list.
+    std::uint32_t* cs = cache.slots.data() + ei * cache.candidates();
+    float* cw = cache.lower.data() + ei * cache.candidates();
+    cs[0] = nbu;
+    cw[0] = round_down(dn - m);
+    e.count = 1, e.others_lb = 0.0, e.settled = 1;
+    e.x0[0] = p[0], e.x0[1] = p[1], e.x0[2] = p[2];
+    e.tri_index = orig_[nbu];
+    const detail::Tri tt = tri_at(nbu);  // a large collider: the entry keeps a copy
+    std::memcpy(cache.firsts.data() + 12 * ei, &tt, sizeof tt);
+    d2 = d2n, d = dn, s = sn, t = tn, stride = kBlock, r = rn;
+    return 1;
+  }
+  if (!edge_answer(o, slot0, beyond, p, t, stride, s, d, feet, nbu, tn, sn, dn, feet_n, m)) return 0;
+  // Over the edge between the two faces: the better of the two is the answer.
+  if (better(d2n, orig_[nbu], d2, e.tri_index)) d2 = d2n, d = dn, s = sn, t = tn, stride = kBlock;
+  return 2;
 }
 
 bool ColliderSet::certify_fast(std::size_t o, const double p[3], double radius_sq,

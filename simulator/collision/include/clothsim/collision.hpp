@@ -246,6 +246,17 @@ struct ColliderSet {
                       QueryMethod method = QueryMethod::Bvh) const;
 
   // --- internals shared with accumulate_penalty() ---
+  /// How far the foot of a point is inside each edge of a face (0: A-B, 1: B-C, 2: C-A), and
+  /// the rounding margin of those figures; computed once (of()) for the checks that need it.
+  struct Feet {
+    double in[3];  // set by of()
+    double margin;
+    bool known = false, sliver = false;
+    /// Computes them unless known; false on a sliver (no face branch to rely on).
+    bool of(const double p[3], const double* t, std::size_t stride, double s);
+    /// The edge the foot is farthest beyond (by more than the margin: -1 if none).
+    int beyond() const;
+  };
   /// 64-byte BVH node (one cache line): an oriented box, float, padded so that it always
   /// contains every computed closest point of its triangles. Oriented, because an axis-aligned
   /// box of a tilted patch of a curved surface bulges towards a point hovering over it; with
@@ -366,11 +377,11 @@ struct ColliderSet {
   /// s > 0; <= 0 when it cannot be made (p not over the face by enough, too near the face's
   /// plane, or too near a triangle within the clearance). Within it, the triangle is the
   /// object's answer over its face (the kernel's face branch), strictly nearer than any other.
-  /// `beyond` (if given) receives the edge (0: A-B, 1: B-C, 2: C-A) whose far side the foot
-  /// of p is on, if any.
+  /// `feet` keeps where the foot of p is against the face's edges when it was computed here
+  /// (Feet::beyond(): the edge whose far side it is on), for the walk to reuse.
   double clear_radius(std::size_t o, std::uint32_t slot, const double p[3], const double* t,
                       std::size_t stride, double d, double s, double m, double reach,
-                      int* beyond) const;
+                      Feet& feet) const;
   /// Per slot, the slots of the triangles across its edges A-B, B-C, C-A (-1: none, or not
   /// exactly one): corners matched by position, so an export with split vertices still joins.
   std::vector<std::int32_t> adj_;
@@ -383,9 +394,13 @@ struct ColliderSet {
   /// Whether p, in front of the face at `slot` (data t1, plane distance s1, distance d1) and
   /// of its neighbour nb across edge k (t2 in place, s2, d2), over that edge, is answered by
   /// one of the two: then the better of them (distance, then index) is the object's answer.
+  [[gnu::noinline]] int walk_on(std::size_t o, const double p[3], double radius_sq, double reach,
+                                double m, ContactCache& cache, std::size_t ei, std::uint32_t slot0,
+                                Feet& feet, double& d2, double& d, double& s, const double*& t,
+                                std::size_t& stride, double& r) const;
   bool edge_answer(std::size_t o, std::uint32_t slot, int k, const double p[3], const double* t1,
-                   std::size_t stride1, double s1, double d1, std::uint32_t nb, const double* t2,
-                   double s2, double d2, double m) const;
+                   std::size_t stride1, double s1, double d1, Feet& feet1, std::uint32_t nb,
+                   const double* t2, double s2, double d2, Feet& feet2, double m) const;
   template <class InTheWay>
   double scan_in_the_way(std::size_t o, const double centre[3], const double (*planes)[5],
                          int nplanes, double far_loose, InTheWay in_the_way) const;
