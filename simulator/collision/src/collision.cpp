@@ -154,6 +154,12 @@ constexpr double kEdgeEnds = 0.02, kEdgeZeta = 0.005;
 // boxes of a plane's own triangles (a floor, a roof's slope: float boxes cannot tell tau) need
 // not be opened; and the largest reach or distance (of the coordinates' scale, 2) it holds for.
 constexpr double kLooseDepth = 2e-5;
+// tau, of the coordinates' scale: how far behind a plane a triangle out of the way must be, and
+// the gap by which clear faces and edge answers win. The certificates' rounding margin m (1e-12
+// of the coordinates) must not exceed it; both are far above the kernel's rounding (~1e-15 of
+// the coordinates). (1e-9 until stop 17: on a 5 mm mesh an edge answer then held only for
+// points within ~10 cm, zeta^2 >= 6 d tau; now within ~10 m.)
+constexpr double kTau = 1e-11;
 
 // Total order for "closest": distance, then lowest input triangle index.
 inline bool better(double d2, std::int32_t tri, double best_d2, std::int32_t best_tri) {
@@ -716,7 +722,7 @@ constexpr std::size_t kCopyAbove = 4096;
 // the certificate was made: every check of it computes both this way, so that they all make
 // the same decisions.
 inline double certificate_margin(const double p[3], double scale) {
-  return 1e-10 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + scale);
+  return 1e-12 * (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) + scale);
 }
 inline double moved_from(const double p[3], const double x0[3]) {
   const double dx = p[0] - x0[0], dy = p[1] - x0[1], dz = p[2] - x0[2];
@@ -829,7 +835,7 @@ bool ColliderSet::out_of_reach(std::size_t o, const double p[3], double radius_s
 
 namespace {
 // The edge of triangle t that p's foot (`feet`, known) is beyond by the margin with p over its
-// middle (all but kEdgeEnds at either end), else the one it is farthest beyond (feet.beyond()).
+// middle (all but kEdgeEnds at either end), else the one it is farthest beyond or nearest to.
 int edge_over(const double p[3], const double* t, std::size_t stride, const ColliderSet::Feet& feet) {
   const double* in = feet.in;
   const double margin = feet.margin;
@@ -844,7 +850,7 @@ int edge_over(const double p[3], const double* t, std::size_t stride, const Coll
     }
     if (ew >= kEdgeEnds * ee && ew <= (1.0 - kEdgeEnds) * ee) return k;
   }
-  return feet.beyond();
+  return least_edge(in);
 }
 }  // namespace
 
@@ -855,22 +861,30 @@ int edge_over(const double p[3], const double* t, std::size_t stride, const Coll
 // the edge's middle (kEdgeEnds). A triangle out of the way of the edge has every point X behind both
 // planes up to tau and >= zeta = kEdgeZeta of the edge's length from Q: |p - X|^2 >= d^2 + |X - Q|^2 -
 // 2 (x + y) tau >= d^2 + zeta^2 - 4 d tau >= (d + tau)^2 when zeta^2 >= 6 d tau + tau^2. Every
-// other triangle within d + tau of p is within the clearance of the edge's midpoint. So the
-// answer is one of the two faces (m <= tau is far above the kernel's rounding): the better of
-// their computed distances, then the lower index, as the search picks.
+// other triangle within d + tau of p is within the clearance of the edge's midpoint.
+// Or p is over the strip along the edge: its foot F on one face's plane (height h <= d) is within
+// mu of the edge's line (either side), so |p - Q|^2 = h^2 + mu^2 bounds the two faces' distance,
+// and |p - X|^2 = |F - X|^2 + h^2 - 2 h n.(X - F) >= (zeta - mu)^2 + h^2 - 2 h tau, which is
+// >= (sqrt(h^2 + mu^2) + tau)^2 when (zeta - mu)^2 >= 4 d tau + mu^2 + 2 mu tau + tau^2. (This
+// is where a point crossing the edge is: its foot just past the edge on one face and a few
+// microns inside the other, where the clear face's mu_min does not let that face answer.)
+// So the answer is one of the two faces (m <= tau is far above the kernel's rounding): the
+// better of their computed distances, then the lower index, as the search picks.
 bool ColliderSet::edge_answer(std::size_t o, std::uint32_t slot, int k, const double p[3],
                               const double* t1, std::size_t stride1, double s1, double d1,
                               Feet& feet1, std::uint32_t nb, const double* t2, double s2,
                               double d2, Feet& feet2, double m) const {
-  const double tau = 1e-9 * objects_[o].scale;
+  const double tau = kTau * objects_[o].scale;
   if (!(m <= tau) || !(s1 > 0.0) || !(s2 > 0.0)) return false;
   const double rho = static_cast<double>(eclear_at(o, slot, k, nb));
   if (!(rho > 0.0)) return false;
   int k2 = 0;
   while (k2 < 3 && adj_[3 * static_cast<std::size_t>(nb) + static_cast<std::size_t>(k2)] != static_cast<std::int32_t>(slot)) ++k2;
   if (k2 == 3) return false;
-  if (!feet1.of(p, t1, stride1, s1) || !(feet1.in[k] < -feet1.margin)) return false;
-  if (!feet2.of(p, t2, kBlock, s2) || !(feet2.in[k2] < -feet2.margin)) return false;
+  if (!feet1.of(p, t1, stride1, s1) || !feet2.of(p, t2, kBlock, s2)) return false;
+  const bool cone = feet1.in[k] < -feet1.margin && feet2.in[k2] < -feet2.margin;
+  // The strip's mu: the nearer foot's distance from the edge's line, and its rounding.
+  const double mu = std::min(std::abs(feet1.in[k]) + feet1.margin, std::abs(feet2.in[k2]) + feet2.margin);
   const auto T = [t1, stride1](int c) { return t1[static_cast<std::size_t>(c) * stride1]; };
   const auto corner = [&](int j, int i) {  // coordinate i of corner j of the first face
     return T(i) + (j == 1 ? T(3 + i) : (j == 2 ? T(6 + i) : 0.0));
@@ -884,8 +898,11 @@ bool ColliderSet::edge_answer(std::size_t o, std::uint32_t slot, int k, const do
   }
   const double u = ew / ee, len = std::sqrt(ee), zeta = kEdgeZeta * len;
   if (!(u >= kEdgeEnds + 1e-9 && u <= 1.0 - kEdgeEnds - 1e-9)) return false;
-  const double d = std::max(d1, d2);
-  if (!(zeta * zeta >= 6.0 * d * tau + tau * tau) || !(d <= 2.0 * objects_[o].scale)) return false;
+  const double d = std::max(d1, d2) + m;
+  if (!(d <= 2.0 * objects_[o].scale)) return false;
+  const bool in_cone = cone && zeta * zeta >= 6.0 * d * tau + tau * tau;
+  if (!in_cone && !(mu < zeta && (zeta - mu) * (zeta - mu) >= 4.0 * d * tau + mu * mu + 2.0 * mu * tau + tau * tau))
+    return false;
   const double pm = std::sqrt((p[0] - mid[0]) * (p[0] - mid[0]) + (p[1] - mid[1]) * (p[1] - mid[1]) +
                               (p[2] - mid[2]) * (p[2] - mid[2]));
   return pm + d + tau + m < rho;
@@ -942,7 +959,7 @@ double ColliderSet::scan_in_the_way(std::size_t o, const double centre[3],
                                     const double (*planes)[5], int nplanes, double far_loose,
                                     InTheWay in_the_way) const {
   const Object& ob = objects_[o];
-  const double tau = 1e-9 * ob.scale;
+  const double tau = kTau * ob.scale;
   // Boxes in float (axes orthonormal to 1e-6): a margin far above float rounding both ways.
   const float cmax = static_cast<float>(std::max({std::abs(centre[0]), std::abs(centre[1]), std::abs(centre[2])}));
   const float slack = 4e-6f * (cmax + static_cast<float>(ob.scale));
@@ -1053,7 +1070,7 @@ double segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
 }  // namespace
 
 float ColliderSet::clearance_of(std::size_t o, std::uint32_t slot) const {
-  const double tau = 1e-9 * objects_[o].scale;
+  const double tau = kTau * objects_[o].scale;
   const detail::Tri tri = tri_at(slot);
   Eigen::Vector3d c[3];
   stored_corners(tri, c);
@@ -1094,7 +1111,7 @@ float ColliderSet::clearance_of(std::size_t o, std::uint32_t slot) const {
 // not convex (a face in front of the other's plane, or normals more than 120 degrees apart).
 // See ColliderSet::edge_answer().
 float ColliderSet::edge_clearance_of(std::size_t o, std::uint32_t slot, int k, std::uint32_t nb) const {
-  const double tau = 1e-9 * objects_[o].scale;
+  const double tau = kTau * objects_[o].scale;
   const detail::Tri t1 = tri_at(slot), t2 = tri_at(nb);
   Eigen::Vector3d c1[3], c2[3];
   stored_corners(t1, c1);
@@ -1237,13 +1254,13 @@ double ColliderSet::clearance(std::size_t o, std::size_t t) const {
 // every triangle that could be as near as the face (within h + tau of P) lies within the
 // clearance of corner A, so it is out of the way: (a) it is >= h + tau from P; (b)
 // sqrt((h - tau)^2 + (mu - tau)^2) >= h + tau when (mu - tau)^2 >= 4 h tau, which mu_min
-// below gives for h <= reach. tau = 1e-9 of the coordinates >= the rounding margin m (checked)
+// below gives for h <= reach. tau = kTau of the coordinates >= the rounding margin m (checked)
 // is far above the kernel's rounding, so the face strictly wins the computed comparison too,
 // and its computed distance is the face branch's |n.(P - A)|: the same bits as the search.
 double ColliderSet::clear_radius(std::size_t o, std::uint32_t slot, const double p[3],
                                  const double* t, std::size_t stride, double d, double s,
                                  double m, double reach, Feet& feet) const {
-  const double tau = 1e-9 * objects_[o].scale, loose = kLooseDepth * objects_[o].scale;
+  const double tau = kTau * objects_[o].scale, loose = kLooseDepth * objects_[o].scale;
   if (!(m <= tau) || !(s > 0.0) || !(reach <= 2.0 * objects_[o].scale)) return -1.0;
   const double rho = static_cast<double>(clear_at(o, slot));
   if (!(rho > 0.0)) return -1.0;
@@ -1462,7 +1479,7 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
       Feet feet;  // of the first candidate at p
       const std::uint32_t slot0 = cache.slots[ei * cache.candidates()];
       double r = clear_radius(o, slot0, p, n - 9 * stride, stride, d, s, m, reach, feet);
-      if (!(r > 0.0) && feet.beyond() >= 0 && ob.kept > kCopyAbove) {
+      if (!(r > 0.0) && feet.known && !feet.sliver && ob.kept > kCopyAbove) {
         // The point has left the face: the face across the edge it crossed, or that edge
         // (walk_on(); only on large colliders: on a fine mesh nearly equidistant triangles
         // tie within microns and lists die young; on a small one the list answers for less,
@@ -1541,9 +1558,10 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
 }
 
 // certify_inline()'s walk from the first candidate (slot0; its data t with stride, d2, d, s at
-// p; `feet` known and beyond an edge): 1 when the face across the edge the point is over
-// answers by its clear face (it becomes the entry's first candidate; d2, d, s, t, stride and
-// r are its), 2 when the edge answers (d2, d, s, t, stride: the better face), else 0.
+// p; `feet` known, not a sliver: the foot beyond an edge or too near one for a clear face): 1
+// when the face across the edge the point is over answers by its clear face (it becomes the
+// entry's first candidate; d2, d, s, t, stride and r are its), 2 when the edge answers (d2,
+// d, s, t, stride: the better face), else 0.
 int ColliderSet::walk_on(std::size_t o, const double p[3], double radius_sq, double reach, double m,
                          ContactCache& cache, std::size_t ei, std::uint32_t slot0, Feet& feet,
                          double& d2, double& d, double& s, const double*& t, std::size_t& stride,

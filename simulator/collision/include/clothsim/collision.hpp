@@ -254,7 +254,7 @@ struct ColliderSet {
     bool known = false, sliver = false;
     /// Computes them unless known; false on a sliver (no face branch to rely on).
     bool of(const double p[3], const double* t, std::size_t stride, double s);
-    /// The edge the foot is farthest beyond (by more than the margin: -1 if none).
+    /// The edge the foot is farthest beyond, or within the margin of (-1 if none).
     int beyond() const;
   };
   /// 64-byte BVH node (one cache line): an oriented box, float, padded so that it always
