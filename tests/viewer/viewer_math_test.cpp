@@ -128,6 +128,7 @@ TEST(StepClock, CarriesTheRemainderSoRealTimeIsKept) {
   EXPECT_LE(steps, 1000);
   EXPECT_FALSE(clock.behind());
   EXPECT_LT(clock.carried(), 0.01);
+  EXPECT_EQ(clock.dropped(), 0.0);  // kept up: the closing line says so
 }
 
 TEST(StepClock, CapsWorkPerFrameAndDropsTheBacklog) {
@@ -137,13 +138,22 @@ TEST(StepClock, CapsWorkPerFrameAndDropsTheBacklog) {
   EXPECT_EQ(n, 50);
   EXPECT_TRUE(clock.behind());
   EXPECT_LT(clock.carried(), 0.001);  // nothing owed: no spiral
+  // What was given up is counted: 0.2 s due, 50 steps of 1 ms taken, the rest dropped.
+  EXPECT_NEAR(clock.dropped() + clock.carried(), 0.15, 1e-12);
+  EXPECT_GT(clock.dropped(), 0.149);
   // A machine so slow that one step exceeds the cap still moves one step per frame.
   cv::StepClock slow(0.01, 0.1);
   EXPECT_EQ(slow.steps_due(0.5, 0.3), 1);
   EXPECT_TRUE(slow.behind());
-  // Fast enough again: behind() clears.
+  // Fast enough again: behind() clears, and nothing more is dropped.
+  const double before = clock.dropped();
   EXPECT_EQ(clock.steps_due(0.0101, 1e-5), 10);
   EXPECT_FALSE(clock.behind());
+  EXPECT_EQ(clock.dropped(), before);
+  // A stalled frame (the window dragged, the process stopped): beyond 0.25 s is dropped.
+  cv::StepClock stalled(0.01, 0.1);
+  stalled.steps_due(1.0, 1e-6);
+  EXPECT_NEAR(stalled.dropped(), 0.75, 1e-12);
 }
 
 TEST(StepClock, TakesOneStepWhileTheCostIsUnknownAndOwesTheRest) {
@@ -152,6 +162,7 @@ TEST(StepClock, TakesOneStepWhileTheCostIsUnknownAndOwesTheRest) {
   EXPECT_EQ(clock.steps_due(0.2, 0.0), 1);
   EXPECT_FALSE(clock.behind());
   EXPECT_NEAR(clock.carried(), 0.199, 1e-9);  // the first frame's time is still owed
+  EXPECT_EQ(clock.dropped(), 0.0);             // owed, not dropped
   // Measured and cheap: the next frame takes the backlog too, and real time is kept.
   EXPECT_EQ(clock.steps_due(0.001, 1e-6), 200);
   EXPECT_FALSE(clock.behind());

@@ -23,6 +23,7 @@ bool software_renderer(std::string_view gl_renderer) {
 
 long StepClock::steps_due(double elapsed_wall, double step_cost) {
   if (!(elapsed_wall > 0.0)) elapsed_wall = 0.0;  // a clock that went backwards, or NaN
+  if (elapsed_wall > kMaxFrameGap) dropped_ += elapsed_wall - kMaxFrameGap;
   accumulator_ += std::min(elapsed_wall, kMaxFrameGap);
   const long due = static_cast<long>(std::floor(accumulator_ / dt_ + 1e-9));
   if (!(step_cost > 0.0)) {
@@ -40,7 +41,11 @@ long StepClock::steps_due(double elapsed_wall, double step_cost) {
   const long n = std::min(due, affordable);
   behind_ = due > affordable;
   accumulator_ -= static_cast<double>(n) * dt_;
-  if (behind_) accumulator_ = std::fmod(accumulator_, dt_);  // drop the backlog: no spiral
+  if (behind_) {  // drop the backlog: no spiral
+    const double kept = std::fmod(accumulator_, dt_);
+    dropped_ += accumulator_ - kept;
+    accumulator_ = kept;
+  }
   accumulator_ = std::max(accumulator_, 0.0);
   return n;
 }

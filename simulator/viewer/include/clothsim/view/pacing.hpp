@@ -26,10 +26,15 @@ class StepClock {
   void reset() { accumulator_ = 0.0; behind_ = false; }  ///< after a pause
   bool behind() const { return behind_; }
   double carried() const { return accumulator_; }        ///< s of simulated time still owed
+  /// s of simulated time given up since construction: backlogs dropped because the steps
+  /// would have cost more than max_work_per_frame, and frame gaps beyond 0.25 s. 0 means the
+  /// simulation kept up with the wall clock (it lags it only by the time still owed).
+  double dropped() const { return dropped_; }
 
  private:
   double dt_, max_work_;
   double accumulator_ = 0.0;
+  double dropped_ = 0.0;
   bool behind_ = false;
 };
 
