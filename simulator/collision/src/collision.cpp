@@ -1567,6 +1567,17 @@ int ColliderSet::walk_on(std::size_t o, const double p[3], double radius_sq, dou
                          double& d2, double& d, double& s, const double*& t, std::size_t& stride,
                          double& r) const {
   const int beyond = edge_over(p, t, stride, feet);
+  if (feet.in[beyond] > feet.margin) {
+    // The foot is still inside the face: only the strip along that edge can answer, within
+    // kEdgeZeta of its length (the clear face failed for another reason otherwise: the point
+    // too near the plane, or another triangle within the clearance).
+    const auto T = [t, stride](int c) { return t[static_cast<std::size_t>(c) * stride]; };
+    const auto edge = [&](int i) {  // coordinate i of the edge's vector
+      return beyond == 0 ? T(3 + i) : (beyond == 1 ? T(6 + i) - T(3 + i) : -T(6 + i));
+    };
+    const double ee = edge(0) * edge(0) + edge(1) * edge(1) + edge(2) * edge(2);
+    if (!(feet.in[beyond] * feet.in[beyond] < kEdgeZeta * kEdgeZeta * ee)) return 0;
+  }
   const std::int32_t nb = adj_[3 * static_cast<std::size_t>(slot0) + static_cast<std::size_t>(beyond)];
   if (nb < 0) return 0;
   const auto nbu = static_cast<std::uint32_t>(nb);
