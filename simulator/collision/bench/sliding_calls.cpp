@@ -7,42 +7,18 @@
 //   perf stat -e instructions:u build/bin/bench_collision_sliding 7 400
 //   perf stat -e instructions:u build/bin/bench_collision_sliding 7 0
 // It prints the share of the calls certified without a search and a checksum of the forces.
-#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <random>
-#include <string>
-#include <utility>
-#include <vector>
 
 #include <Eigen/Geometry>
 
 #include "clothsim/collision.hpp"
 #include "clothsim/collision_meshes.hpp"
+#include "shell_points.hpp"
 
 namespace {
 
-// n points in random directions at distances uniform in [lo, hi], in Morton order (like the
-// masses of a cloth), as bench_collision's shell_points().
-Eigen::Matrix3Xd shell_points(int n, double lo, double hi, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::uniform_real_distribution<double> r(lo, hi);
-  std::vector<std::pair<std::uint64_t, Eigen::Vector3d>> pts(static_cast<std::size_t>(n));
-  for (auto& [key, p] : pts) {
-    p = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized() * r(rng);
-    key = 0;
-    for (int bit = 0; bit < 21; ++bit)
-      for (int k = 0; k < 3; ++k) {
-        const auto q = static_cast<std::uint64_t>((p[k] + 4.0) / 8.0 * (1 << 21));
-        key |= ((q >> bit) & 1u) << (3 * bit + k);
-      }
-  }
-  std::stable_sort(pts.begin(), pts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  Eigen::Matrix3Xd x(3, n);
-  for (int i = 0; i < n; ++i) x.col(i) = pts[static_cast<std::size_t>(i)].second;
-  return x;
-}
+using clothsim::bench::shell_points;
 
 bool number(const char* text, double& out) {
   char* end = nullptr;
