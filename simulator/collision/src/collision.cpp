@@ -822,11 +822,6 @@ double inside_face(const double p[3], const double* t, std::size_t stride, doubl
   if (!known) known = true, sliver = !face_insides(p, t, stride, s, in, margin);
   return !sliver;
 }
-int ColliderSet::Feet::beyond() const {
-  if (!known || sliver) return -1;
-  const int k = least_edge(in);
-  return in[k] - margin < 0.0 ? k : -1;
-}
 
 bool ColliderSet::out_of_reach(std::size_t o, const double p[3], double radius_sq) const {
   const Object& ob = objects_[o];

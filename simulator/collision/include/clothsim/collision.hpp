@@ -254,8 +254,6 @@ struct ColliderSet {
     bool known = false, sliver = false;
     /// Computes them unless known; false on a sliver (no face branch to rely on).
     bool of(const double p[3], const double* t, std::size_t stride, double s);
-    /// The edge the foot is farthest beyond, or within the margin of (-1 if none).
-    int beyond() const;
   };
   /// 64-byte BVH node (one cache line): an oriented box, float, padded so that it always
   /// contains every computed closest point of its triangles. Oriented, because an axis-aligned
@@ -377,8 +375,8 @@ struct ColliderSet {
   /// s > 0; <= 0 when it cannot be made (p not over the face by enough, too near the face's
   /// plane, or too near a triangle within the clearance). Within it, the triangle is the
   /// object's answer over its face (the kernel's face branch), strictly nearer than any other.
-  /// `feet` keeps where the foot of p is against the face's edges when it was computed here
-  /// (Feet::beyond(): the edge whose far side it is on), for the walk to reuse.
+  /// `feet` keeps where the foot of p is against the face's edges when it was computed here,
+  /// for the walk to reuse.
   double clear_radius(std::size_t o, std::uint32_t slot, const double p[3], const double* t,
                       std::size_t stride, double d, double s, double m, double reach,
                       Feet& feet) const;
@@ -391,13 +389,15 @@ struct ColliderSet {
   mutable std::vector<float> eclear_;
   float eclear_at(std::size_t o, std::uint32_t slot, int k, std::uint32_t nb) const;
   float edge_clearance_of(std::size_t o, std::uint32_t slot, int k, std::uint32_t nb) const;
-  /// Whether p, in front of the face at `slot` (data t1, plane distance s1, distance d1) and
-  /// of its neighbour nb across edge k (t2 in place, s2, d2), over that edge, is answered by
-  /// one of the two: then the better of them (distance, then index) is the object's answer.
+  /// certify_inline()'s walk from the entry's first candidate to the face across the edge the
+  /// point is over or near (1: that face's clear face answers; 2: the edge answers; 0: neither).
   [[gnu::noinline]] int walk_on(std::size_t o, const double p[3], double radius_sq, double reach,
                                 double m, ContactCache& cache, std::size_t ei, std::uint32_t slot0,
                                 Feet& feet, double& d2, double& d, double& s, const double*& t,
                                 std::size_t& stride, double& r) const;
+  /// Whether p, in front of the face at `slot` (data t1, plane distance s1, distance d1) and
+  /// of its neighbour nb across edge k (t2 in place, s2, d2), over that edge or along it, is
+  /// answered by one of the two: then the better of them (distance, then index) is the answer.
   bool edge_answer(std::size_t o, std::uint32_t slot, int k, const double p[3], const double* t1,
                    std::size_t stride1, double s1, double d1, Feet& feet1, std::uint32_t nb,
                    const double* t2, double s2, double d2, Feet& feet2, double m) const;
