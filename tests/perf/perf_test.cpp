@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 
@@ -53,6 +54,38 @@ TEST(Gather, CoincidentEndsGiveNoForceAsInTheScatter) {
   add_spring_forces(m, s.x, got, ws);
   ASSERT_TRUE(got.allFinite());
   EXPECT_EQ(got, ref);
+}
+
+// ModelBuilder's spring order lets the gather read each mass's a ends as a range (run);
+// springs in any other order take the entries' general path, with the same bits.
+TEST(Gather, RunsOfAEndsAndSpringsInAnyOrder) {
+  const Model ordered = jittered_grid(30);
+  const SpringAdjacency adj = SpringAdjacency::build(ordered);
+  ASSERT_EQ(adj.run.size(), ordered.mass_count());
+  std::size_t ends = 0;
+  for (std::uint32_t r : adj.run) ends += r;
+  EXPECT_EQ(ends, ordered.spring_count());  // every spring's a end, once
+
+  Model shuffled = ordered;  // the same springs, reordered, half of them turned around
+  std::vector<std::size_t> order(ordered.spring_count());
+  for (std::size_t s = 0; s < order.size(); ++s) order[s] = s;
+  std::shuffle(order.begin(), order.end(), std::mt19937_64(11));
+  for (std::size_t s = 0; s < order.size(); ++s) {
+    const std::size_t o = order[s];
+    shuffled.spring_a[s] = s % 2 ? ordered.spring_b[o] : ordered.spring_a[o];
+    shuffled.spring_b[s] = s % 2 ? ordered.spring_a[o] : ordered.spring_b[o];
+    shuffled.rest_length0[static_cast<Eigen::Index>(s)] = ordered.rest_length0[static_cast<Eigen::Index>(o)];
+    shuffled.spring_kind[s] = ordered.spring_kind[o];
+  }
+  EXPECT_TRUE(SpringAdjacency::build(shuffled).run.empty());
+  for (const Model* m : std::initializer_list<const Model*>{&ordered, &shuffled}) {
+    const State s = make_state(*m);
+    Workspace ws = make_workspace(*m);
+    Eigen::Matrix3Xd ref = Eigen::Matrix3Xd::Random(3, s.x.cols()), got = ref;
+    add_spring_forces(*m, s.x, ref);
+    add_spring_forces(*m, s.x, got, ws);
+    EXPECT_EQ(0, std::memcmp(got.data(), ref.data(), sizeof(double) * static_cast<std::size_t>(ref.size())));
+  }
 }
 
 TEST(Gather, WorkspaceWithoutAdjacencyFallsBackToTheScatter) {

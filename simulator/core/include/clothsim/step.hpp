@@ -27,10 +27,15 @@ struct SpringAdjacency {
   /// Every block's springs are consecutive indices (ModelBuilder's order): then the passes
   /// take them as a range, without the list.
   bool blocks_consecutive = false;
+  /// When every mass's springs as the a end are consecutive indices at the head of its list
+  /// (ModelBuilder's order), run[i] says how many: the AVX2 gather then reads them as a
+  /// range, without their entries. Empty otherwise.
+  std::vector<std::uint32_t> run;
   /// Throws std::length_error for more than 2^31 - 1 springs.
   static SpringAdjacency build(const Model& model);
   std::size_t bytes() const {
-    return (start.size() + entry.size() + block_start.size() + block_springs.size()) * sizeof(std::uint32_t);
+    return (start.size() + entry.size() + block_start.size() + block_springs.size() + run.size()) *
+           sizeof(std::uint32_t);
   }
 };
 
