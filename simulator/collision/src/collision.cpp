@@ -1457,18 +1457,22 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
     double s, d2;
     const double* n;
     std::size_t stride;
+    bool face;  // the closest point is inside the face (else neither a clear face nor a plane)
     if (ob.kept > kCopyAbove) {
       const double* t = cache.firsts.data() + 12 * ei;
-      d2 = detail::closest_sq<1>(p, t, s);
+      d2 = detail::closest_sq<1>(p, t, s, face);
       n = t + 9, stride = 1;
     } else {
       const double* t = tri_ptr(cache.slots[ei * cache.candidates()]);
-      d2 = detail::closest_sq<kBlock>(p, t, s);
+      d2 = detail::closest_sq<kBlock>(p, t, s, face);
       n = t + 9 * kBlock, stride = kBlock;
     }
     if (!(d2 <= radius_sq)) return false;
     double d = std::sqrt(d2);
-    if (s > 0.0) {
+    // A clear face needs the foot inside the face by a margin (1e-6 of the coordinates) far
+    // beyond the kernel's rounding: outside the face branch clear_radius() cannot answer, and
+    // a small collider skips it (a large one computes the feet for the walk).
+    if (s > 0.0 && (face || ob.kept > kCopyAbove)) {
       // A clear face (see clear_radius()): the answer whatever the list says, and a record
       // that lasts while the point stays over the face, however near the other triangles tie.
       Feet feet;  // of the first candidate at p
@@ -1518,11 +1522,12 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
       const double* t = tri_ptr(cache.slots[ei * cache.candidates() + 1]);
       const double d2a = d2, sa = s;  // the first candidate's, for query_cached_from()
       double s1;
-      const double d2b = detail::closest_sq<kBlock>(p, t, s1);
+      bool face1;
+      const double d2b = detail::closest_sq<kBlock>(p, t, s1, face1);
       const std::int32_t idx1 = orig_[cache.slots[ei * cache.candidates() + 1]];
       if (d2b <= radius_sq && better(d2b, idx1, d2, e.tri_index)) {
         loser = d, loser_s = s;
-        d2 = d2b, s = s1, n = t + 9 * kBlock, stride = kBlock;
+        d2 = d2b, s = s1, n = t + 9 * kBlock, stride = kBlock, face = face1;
         d = std::sqrt(d2);
       } else {
         loser = std::sqrt(d2b), loser_s = s1;
@@ -1541,11 +1546,12 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
     signed_distance = detail::signed_from(d, s);
     normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
     // The next calls can take a plane certificate (the loser: the other evaluated one): "no
-    // force" beyond the band (which holds over edges too), else this face.
+    // force" beyond the band (which holds over edges too), else this face (only from inside
+    // it: make_plane() fails elsewhere, as clear_radius() does).
     if (records && plane_due(cache, e, cache.entries[ei].plane) &&
         !(d > band && make_far(p, cache, ei, d, s, alone ? 1 : 2, loser, loser_s, moved, m, band)) &&
-        !make_plane(p, cache, ei, n - 9 * stride, stride, d, s, alone ? 1 : 2, loser, moved, m,
-                    reach))
+        !(face && make_plane(p, cache, ei, n - 9 * stride, stride, d, s, alone ? 1 : 2, loser, moved, m,
+                             reach)))
       plane_failed(e);
   }
   if (e.age < kMinAge) ++e.age;

@@ -81,6 +81,19 @@ inline double closest_sq(const double p[3], const double* b, double& s) {
   return closest_sq_impl(p, [b](int k) { return b[k * static_cast<int>(Stride)]; }, s, v, w, region);
 }
 
+/// The same, and whether the closest point is inside the face (the kernel's face branch):
+/// when it is not, the foot of P on the plane is outside the triangle or on its border, up to
+/// the kernel's rounding.
+template <std::size_t Stride>
+inline double closest_sq(const double p[3], const double* b, double& s, bool& face) {
+  double v, w;
+  TriangleRegion region;
+  const double d2 =
+      closest_sq_impl(p, [b](int k) { return b[k * static_cast<int>(Stride)]; }, s, v, w, region);
+  face = region == TriangleRegion::Face;
+  return d2;
+}
+
 /// The signed distance from d = |P - Q| and s = n.(P - A): behind (-d) only when P is behind
 /// the plane by more than 1e-6 d. A point beyond an edge or a vertex that lies in the plane
 /// up to rounding (|s| tiny against d) is in front: there the plane does not say on which side
