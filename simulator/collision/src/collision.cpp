@@ -1991,7 +1991,10 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
     if (!finite || box_dist_sq(lo, hi, p) > reach_sq) [[unlikely]] {  // NaN, or far from every collider
       if (!finite) ++stats.nonfinite_points;
       if (!hints.empty()) std::fill_n(hints.begin() + static_cast<std::ptrdiff_t>(i * no), no, -1);
-      if (cache)
+      // A NaN point's entries start again; a far point's are left as they are (its
+      // certificates stay true wherever it goes, as for one object's box in pair()): writing
+      // them cost two cache lines per point and step while the cloth was away.
+      if (cache && !finite)
         for (std::size_t o = 0; o < no; ++o) cache->entries[i * no + o].count = -1;
       return;
     }
