@@ -1856,9 +1856,11 @@ __attribute__((target("avx2"))) std::size_t groups_avx2(const ColliderSet& set, 
     aos_to_lanes(x + 3 * i, p);
     // isfinite(x + y + z) and not box_dist_sq(lo, hi, p) > reach_sq, as point() tests them
     const __m256d sum = _mm256_add_pd(_mm256_add_pd(p[0], p[1]), p[2]);
-    const __m256d usual = _mm256_and_pd(_mm256_cmp_pd(_mm256_sub_pd(sum, sum), zero, _CMP_EQ_OQ),
-                                        _mm256_cmp_pd(box_dist_sq_lanes(p, lo.data(), hi.data()), limit, _CMP_NGT_UQ));
-    if (_mm256_movemask_pd(usual) != 0xf) [[unlikely]] {
+    const int finite = _mm256_movemask_pd(_mm256_cmp_pd(_mm256_sub_pd(sum, sum), zero, _CMP_EQ_OQ));
+    const int near = _mm256_movemask_pd(_mm256_cmp_pd(box_dist_sq_lanes(p, lo.data(), hi.data()), limit, _CMP_NGT_UQ));
+    if ((finite & near) != 0xf) [[unlikely]] {
+      // four finite points far from every collider: point() would leave them as they are
+      if (finite == 0xf && near == 0) continue;
       for (std::size_t l = 0; l < 4; ++l) point(i + l);
       continue;
     }
