@@ -376,6 +376,50 @@ TEST(CollisionBvh, CandidateCachePenaltyBitIdenticalWhileSliding) {
   EXPECT_GT(certified, 60u * 400u / 2);  // most calls need no search
 }
 
+TEST(CollisionBvh, PointsAwayFromEveryColliderKeepTheirEntriesAndComeBackBitIdentical) {
+  // Points leave the colliders' box for a while (in groups of four, as the AVX2 path takes
+  // them, and one by one): their cache entries are left as they are, and when they come back
+  // their forces are brute force's bit for bit. A NaN point's entry starts again.
+  TurningShell shell = turning_shell(3, 400, 11, 0.9, 1.1, 2e-3);
+  auto& [set, x, rot, cache] = shell;
+  const auto call = [&, &set = set, &cache = cache](const Eigen::Matrix3Xd& p, const char* what, int round) {
+    Eigen::Matrix3Xd fb = Eigen::Matrix3Xd::Zero(3, p.cols()), fc = fb;
+    PenaltyStats sb, sc;
+    accumulate_penalty(set, p, 0.1, 1000.0, fb, sb, {}, QueryMethod::BruteForce);
+    accumulate_penalty(set, p, 0.1, 1000.0, fc, sc, cache);
+    EXPECT_EQ(std::memcmp(fb.data(), fc.data(), sizeof(double) * static_cast<std::size_t>(p.size())), 0)
+        << what << " " << round;
+    EXPECT_EQ(sb.contacts, sc.contacts) << what << " " << round;
+    EXPECT_EQ(sb.nonfinite_points, sc.nonfinite_points);
+    return sc;
+  };
+  for (int round = 0; round < 10; ++round) call(x = rot * x, "before", round);
+  Eigen::Matrix3Xd away = x;
+  std::vector<std::int32_t> count_before(static_cast<std::size_t>(x.cols()));
+  std::size_t far = 0, certified_far = 0;
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    count_before[k] = cache.entries[k].count;
+    if ((i / 4) % 2 == 0 || i % 7 == 0) {  // |x| >= 2.7: outside the box padded by the reach
+      away.col(i) *= 3.0;
+      ++far;
+      if (count_before[k] >= 0) ++certified_far;
+    }
+  }
+  ASSERT_GT(certified_far, 100u);
+  for (int round = 0; round < 5; ++round) call(away = rot * away, "away", round);
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    if (away.col(i).norm() > 2.0) {
+      EXPECT_EQ(cache.entries[static_cast<std::size_t>(i)].count, count_before[static_cast<std::size_t>(i)]) << i;
+    }
+  }
+  EXPECT_GT(far, 200u);
+  for (int round = 0; round < 10; ++round) call(x = rot * x, "back", round);
+  x(0, 5) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(call(x, "nan", 0).nonfinite_points, 1u);
+  EXPECT_EQ(cache.entries[5].count, -1);
+}
+
 TEST(CollisionBvh, CachedPenaltyOnEdgesAtRestAndInRanges) {
   // accumulate_penalty() with a cache, through its inlined common case: points that hover
   // over vertices and edges of a flat grid (exact ties between triangles) and tremble by
