@@ -107,7 +107,8 @@ TEST(Cli, BadValuesExitTwoWithAMessageAndWriteNothing) {
   } cases[] = {{"--dt 0", "dt"},           {"--dt -0.01", "dt"},     {"--dt nan", "dt"},
                {"--mass 0", "mass"},        {"--k-struct -5", "k_struct"}, {"--damping inf", "damping"},
                {"--dt abc", "--dt"},        {"--bogus", "bogus"},     {"--seconds 1 --steps 5", "steps"},
-               {"--seconds -2", "seconds"}, {"-step 0", "dt"}};
+               {"--seconds -2", "seconds"}, {"-step 0", "dt"},   {"--threads abc", "--threads"},
+               {"--threads -1", "--threads"}, {"--threads 1025", "--threads"}, {"--threads Auto", "auto"}};
   for (const Case& c : cases) {
     const Result r = run(std::string("--headless --report '") + report + "' " + c.args);
     EXPECT_EQ(r.code, 2) << c.args << ": " << r.output;
@@ -272,6 +273,26 @@ TEST(Cli, ReportHasTheKeys) {
   EXPECT_GE(j["ms_per_step"].get<double>(), 0.0);
   // nothing but the report in the folder (the temp file was renamed)
   EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator{}), 1);
+}
+
+// --threads: auto (the default) or a count; the report says which, and how many steps each
+// count took (a small model such as the dice's never splits: all on one thread).
+TEST(Cli, ThreadsAutoOrACountReachTheReport) {
+  const fs::path d = fresh_dir("threads");
+  const struct {
+    const char* args;
+    nlohmann::json threads, steps;
+  } cases[] = {{"", "auto", {{"1", 40}}},
+               {"--threads auto", "auto", {{"1", 40}}},
+               {"--threads 2", 2, {{"1", 40}}},  // asked, but 16 masses do not split
+               {"--threads 1", 1, {{"1", 40}}}};
+  for (const auto& c : cases) {
+    const Result r = run("--headless --quiet --steps 40 --report " + q(d / "r.json") + " " + c.args);
+    ASSERT_EQ(r.code, 0) << c.args << ": " << r.output;
+    const auto j = read_json(d / "r.json");
+    EXPECT_EQ(j["threads"], c.threads) << c.args;
+    EXPECT_EQ(j["thread_steps"], c.steps) << c.args;
+  }
 }
 
 // docs/scenes.md documents every field the report has (it used to omit dt_stable, omega_max,

@@ -2,6 +2,7 @@
 #include "perf_scenes.hpp"
 
 #include <clothsim/integrators.hpp>
+#include <clothsim/thread_choice.hpp>
 
 #include <gtest/gtest.h>
 
@@ -116,6 +117,42 @@ TEST(Threads, BitIdenticalOverACollider) {
   const std::uint64_t one = run(m, 30, 1);
   EXPECT_EQ(run(m, 30, 2), one);
   EXPECT_EQ(run(m, 30, 1, false), one);
+}
+
+// --threads auto switches the count while a run steps: the contact caches, the spring split
+// and the collision runs' balance carry over, and the bits stay those of one thread.
+TEST(Threads, SwitchingTheCountWhileSteppingIsBitIdentical) {
+  const Model m = jittered_grid(72, perf::sphere_collider(3));
+  ASSERT_TRUE(step_splits(m));
+  const std::uint64_t one = run(m, 60, 1);
+  {
+    State s = make_state(m);
+    Workspace ws = make_workspace(m);
+    int in_contact = 0;  // steps with contact forces: the collision's split is switched too
+    for (int i = 0; i < 60; ++i) {
+      set_threads(i / 7 % 2 == 0 ? 2 : 1);  // 1..7 on two threads, 8..14 on one, ...
+      ASSERT_TRUE(step(m, s, ws).finite);
+      if (ws.last_contacts > 0) ++in_contact;
+    }
+    set_threads(1);
+    EXPECT_GT(in_contact, 30);
+    EXPECT_EQ(state_hash(s), one);
+  }
+  {  // the chooser itself, starting on two threads and trying one after kWarm + kTrial steps
+    State s = make_state(m);
+    Workspace ws = make_workspace(m);
+    ThreadChooser chooser(2);
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(chosen_step(chooser, m, s, ws).finite);
+    set_threads(1);
+    EXPECT_GT(chooser.steps_one(), 0u);
+    EXPECT_GT(chooser.steps_many(), 0u);
+    EXPECT_EQ(state_hash(s), one);
+  }
+}
+
+TEST(Threads, SmallModelsDoNotSplit) {
+  EXPECT_FALSE(step_splits(jittered_grid(40)));  // 1 600 masses
+  EXPECT_TRUE(step_splits(jittered_grid(72)));   // 5 184
 }
 
 TEST(Threads, BitIdenticalWithAnotherIntegrator) {

@@ -6,6 +6,7 @@
 #include <clothsim/scene.hpp>
 #include <clothsim/stability.hpp>
 #include <clothsim/step.hpp>
+#include <clothsim/thread_choice.hpp>
 
 #include <blender2ogl/scene_types.h>
 
@@ -89,6 +90,13 @@ std::string fmt(double v) {
   std::ostringstream s;
   s << v;
   return s.str();
+}
+
+// A fraction as a percentage with one decimal: "97.3 %".
+std::string fmt_percent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f %%", 100.0 * fraction);
+  return text;
 }
 
 // A step count: whole numbers in full, beyond 1e15 as 1e+30.
@@ -227,9 +235,11 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   app.add_option("--export-every", export_every_text,
                  "With --export-obj: every K steps of --dt (substeps not counted; default 10)");
   app.add_flag("--quiet", quiet, "No progress bar and no summary");
-  int threads = 1;  // issue 6: results are bit-identical for every count
-  app.add_option("--threads", threads, "Threads for the force loops (default 1; 0: all cores); same results for any count")
-      ->check(CLI::Range(0, 1024));
+  // issue 6: results are bit-identical for every count, so auto may switch while it runs
+  std::string threads_text = "auto";
+  app.add_option("--threads", threads_text,
+                 "Threads for the force loops: auto (default: measures one thread and all cores while it "
+                 "runs and keeps the faster), N (1..1024) or 0 (all cores); the same results for any count");
   // issue 5: integrator and stability guard (integrators.hpp, stability.hpp, docs/stability.md)
   std::string integrator_name = to_string(Integrator::SymplecticEuler), substeps_text = "auto";
   app.add_option("--integrator", integrator_name,
@@ -311,7 +321,16 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     return bad_input(e.what());
   }
   if (const std::string why = validate_options(opts); !why.empty()) return bad_input(why);
-  set_threads(threads);
+  // --threads: auto, or a fixed count (0: all cores)
+  std::optional<ThreadChooser> chooser;
+  if (threads_text == "auto") {
+    chooser.emplace(core_count());  // made again for the model below
+  } else {
+    std::uint64_t count = 0;
+    if (const std::string why = parse_count("--threads", threads_text, 0, 1024, count); !why.empty())
+      return bad_input(why + " (or auto)");
+    set_threads(static_cast<int>(count));
+  }
   if (o_seconds->count() && !(std::isfinite(seconds) && seconds >= 0.0))
     return bad_input("--seconds must be a finite number >= 0 (got " + fmt(seconds) + ")");
   if (o_steps->count())
@@ -367,6 +386,10 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     return bad_input("--dt " + fmt(opts.dt) + ": " +
                      (stab.dt_stable > 0.0 ? plan.message : never_stable_reason(stab, opts.integrator)));
   model.options.dt = plan.h;
+  if (chooser) {  // a model too small to split steps on one thread: nothing to measure
+    chooser.emplace(step_splits(model) ? core_count() : 1);
+    set_threads(chooser->threads());
+  }
 
   // The run's length before it starts: headless, --screenshot and --frames step as fast as they
   // can, and a window with --seconds or --steps closes at that time; a window without either
@@ -420,6 +443,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     vo.frames_dir = frames;
     vo.fps = fps;
     vo.substeps = plan.substeps;
+    vo.auto_threads = chooser.has_value();
     if (o_seconds->count()) vo.seconds = seconds;
     else if (o_steps->count()) vo.seconds = static_cast<double>(steps) * opts.dt;
     return run_viewer(scene, model, vo);
@@ -466,7 +490,11 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     }
     const auto t0 = std::chrono::steady_clock::now();
     StepStatus st;
-    for (int k = 0; k < plan.substeps && st.finite; ++k) st = step(model, state, ws);
+    if (chooser) {  // each step timed: the chooser compares one thread with all cores
+      for (int k = 0; k < plan.substeps && st.finite; ++k) st = chosen_step(*chooser, model, state, ws);
+    } else {
+      for (int k = 0; k < plan.substeps && st.finite; ++k) st = step(model, state, ws);
+    }
     step_time += std::chrono::steady_clock::now() - t0;
     ++timed;
     if (!st.finite) {
@@ -545,6 +573,19 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     r["kinetic_energy"] = num(ke);
     r["stable_dt_estimate"] = num(stable_dt);
     r["options"] = options_json(opts);
+    // threads: what was asked; thread_steps: model steps taken with each count
+    if (chooser) {
+      r["threads"] = "auto";
+      json by_count = json::object();
+      by_count["1"] = chooser->steps_one();
+      if (chooser->cores() > 1) by_count[std::to_string(chooser->cores())] = chooser->steps_many();
+      r["thread_steps"] = by_count;
+    } else {
+      r["threads"] = threads();
+      // a model too small to split steps on one thread whatever was asked
+      const int used = step_splits(model) ? threads() : 1;
+      r["thread_steps"] = json::object({{std::to_string(used), state.steps}});
+    }
     if (const std::string err = io::write_output_file(report, r.dump(2) + "\n"); !err.empty()) {
       std::cerr << "clothsim: error: --report: " << err << "\n";
       return kExitFailed;
@@ -561,6 +602,11 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
                                  " m; past eps the contact lets go, masses may be deeper or through)"
                            : std::string())
               << ", kinetic energy " << ke << " J, cloth y " << lo.y() << " .. " << hi.y() << "\n";
+    if (chooser && chooser->cores() > 1 && state.steps > 0)
+      std::cout << "threads auto: " << chooser->cores() << " threads for "
+                << fmt_percent(static_cast<double>(chooser->steps_many()) / static_cast<double>(state.steps))
+                << " of the steps (" << chooser->trials_won_by_many() << " of " << chooser->trials()
+                << " trials won by " << chooser->cores() << " threads)\n";
   }
   return 0;
 }

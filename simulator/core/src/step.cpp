@@ -42,9 +42,10 @@ double wtime() { return 0.0; }
 #endif
 
 // Threads for a loop of `work` items: below ~4k items a parallel region costs more than it saves.
+constexpr std::size_t kTeamWork = 4096;
 int team(std::size_t work) {
   const int t = g_threads.load(std::memory_order_relaxed);
-  return work >= 4096 ? t : 1;
+  return work >= kTeamWork ? t : 1;
 }
 
 }  // namespace
@@ -59,6 +60,23 @@ void set_threads(int n) {
 }
 
 int threads() { return g_threads.load(); }
+
+bool step_splits(const Model& model) {
+  const std::size_t n = model.mass_count();
+  std::size_t collision = 0;
+#ifdef CLOTHSIM_HAVE_COLLISION
+  if (model.colliders) collision = n * model.colliders->object_count() / 2;  // as compute_forces() asks
+#endif
+  return std::max(n, collision) >= kTeamWork;  // team() of the mass loops and of the collision
+}
+
+int core_count() {
+#ifdef _OPENMP
+  return std::max(1, omp_get_num_procs());
+#else
+  return 1;
+#endif
+}
 
 SpringAdjacency SpringAdjacency::build(const Model& model) {
   const std::size_t n = model.mass_count(), s_count = model.spring_count();

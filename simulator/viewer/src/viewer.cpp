@@ -6,6 +6,7 @@
 #include <clothsim/output_file.hpp>
 #include <clothsim/sim.hpp>
 #include <clothsim/step.hpp>
+#include <clothsim/thread_choice.hpp>
 #include <clothsim/view/camera.hpp>
 #include <clothsim/view/cloth_mesh.hpp>
 #include <clothsim/view/pacing.hpp>
@@ -18,6 +19,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -77,6 +79,7 @@ class Viewer {
         ws_(make_workspace(model)), clock_(model.options.dt, opt.max_work_per_frame),
         of_dt_{opt.substeps} {
     paused_ = opt.paused;
+    if (opt.auto_threads) chooser_.emplace(step_splits(model) ? core_count() : 1);
     // The drag's reach: twice the mean structural rest length (a cursor far away pulls like a
     // spring stretched by that much, so the grabbed point follows instead of being flung).
     double sum = 0.0;
@@ -110,8 +113,7 @@ class Viewer {
       gpu_.target.max_samples = 0;
       gpu_.target.to_window = true;
     }
-    const unsigned cores = std::thread::hardware_concurrency();
-    finish_frames_ = software && threads() > 1 && static_cast<unsigned>(threads()) >= cores;
+    software_ = software;
     if (!gpu_.target.resize(fw, fh))
       throw std::runtime_error("cannot make a " + std::to_string(fw) + "x" + std::to_string(fh) +
                                " OpenGL framebuffer (too large for this GL?)");
@@ -124,7 +126,7 @@ class Viewer {
   bool advance_to(double t) {
     const double dt = model_.options.dt;
     while (state_.t < t - 0.5 * dt) {
-      if (!step(model_, state_, ws_).finite) {
+      if (!timed_step().finite) {
         std::fprintf(stderr, "clothsim: the simulation became non-finite at t = %.3f s (%s); "
                      "no picture written (try a smaller --dt)\n", state_.t,
                      of_dt_.step_label(state_.steps).c_str());
@@ -242,7 +244,7 @@ class Viewer {
         const auto t0 = Clock::now();
         long done = 0;
         for (; done < n; ++done) {
-          if (!step(model_, state_, ws_).finite) {
+          if (!timed_step().finite) {
             non_finite_ = true;
             paused_ = true;
             std::fprintf(stderr, "clothsim: the simulation became non-finite at t = %.3f s (%s); "
@@ -278,7 +280,7 @@ class Viewer {
       // steps' barriers (skirt_hires, two threads on two cores, llvmpipe: 0.385-0.401 ->
       // 0.367-0.370 ms per step). With a core to spare the overlap pays (one thread: 0.54x
       // real time with it, 0.48-0.52x without).
-      if (finish_frames_) glFinish();
+      if (finish_frames()) glFinish();
       ++frames;
 
       const double wall = std::chrono::duration<double>(Clock::now() - window_start).count();
@@ -306,10 +308,16 @@ class Viewer {
       std::snprintf(pace, sizeof pace, "fell behind: %.2f s of simulated time dropped", clock_.dropped());
     else
       std::snprintf(pace, sizeof pace, "kept up: no time dropped");
+    // --threads auto on a model that splits: how the steps were shared
+    char thread_note[96] = "";
+    if (chooser_ && chooser_->cores() > 1 && state_.steps > 0)
+      std::snprintf(thread_note, sizeof thread_note, "; threads auto: %d for %.1f %% of the steps",
+                    chooser_->cores(),
+                    100.0 * static_cast<double>(chooser_->steps_many()) / static_cast<double>(state_.steps));
     std::printf("clothsim: viewer closed at t = %.2f s after %llu steps%s (%.3f ms/step, %.2fx real "
-                "time over %.2f s running, %s; %ld frames in %.2f s)%s\n",
+                "time over %.2f s running, %s; %ld frames in %.2f s%s)%s\n",
                 state_.t, static_cast<unsigned long long>(steps_done), of_sub.c_str(),
-                rates.ms_per_step, rates.realtime, run_wall, pace, frames, wall,
+                rates.ms_per_step, rates.realtime, run_wall, pace, frames, wall, thread_note,
                 non_finite_ ? " (state non-finite)" : "");
     return non_finite_ ? 1 : 0;
   }
@@ -440,6 +448,18 @@ class Viewer {
     }
   }
 
+  // One step, with the thread count --threads auto chooses (else the one set).
+  StepStatus timed_step() {
+    return chooser_ ? chosen_step(*chooser_, model_, state_, ws_) : step(model_, state_, ws_);
+  }
+
+  // glFinish() after each frame (see the main loop): a software renderer while the steps'
+  // threads take every core.
+  bool finish_frames() const {
+    const unsigned cores = std::thread::hardware_concurrency();
+    return software_ && threads() > 1 && static_cast<unsigned>(threads()) >= cores;
+  }
+
   void render() {
     view::RenderFlags flags;
     flags.wireframe = wireframe_;
@@ -466,7 +486,8 @@ class Viewer {
   view::GlScene gpu_;
   GLFWwindow* window_ = nullptr;
   double step_cost_ = 0.0;
-  bool finish_frames_ = false;  ///< glFinish() after each frame (see the main loop)
+  bool software_ = false;  ///< the GL draws on the CPU
+  std::optional<ThreadChooser> chooser_;  ///< --threads auto
   double drag_reach_ = std::numeric_limits<double>::infinity();
   bool stats_reset_ = false;  ///< R was pressed: the title's rates start again
   bool paused_ = false, non_finite_ = false;

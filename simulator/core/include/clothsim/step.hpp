@@ -94,9 +94,15 @@ void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Mat
                        Workspace& ws);
 
 /// Threads used by step()'s force and update loops (OpenMP; 1 without it). Results are
-/// bit-identical for every count. Default 1; n <= 0 means all the machine's cores.
+/// bit-identical for every count. Default 1; n <= 0 means all the machine's cores. (The
+/// clothsim program's --threads auto switches while it runs: thread_choice.hpp.)
 void set_threads(int n);
 int threads();
+/// Whether step() splits any of its loops between threads for this model; when it does not
+/// (a small model), it runs on one thread whatever set_threads() said.
+bool step_splits(const Model& model);
+/// The cores this process may run on (OpenMP's count; 1 without OpenMP): what set_threads(0) takes.
+int core_count();
 
 /// 1/2 sum m |v|^2 over the free masses, J.
 double kinetic_energy(const Model& model, const State& state);

@@ -28,6 +28,9 @@ struct ViewerOptions {
   /// every count and rate the viewer shows (title, overlay, stderr, closing line) is of steps of
   /// substeps x dt, as the headless run's, and N takes one such step.
   int substeps = 1;
+  /// --threads auto: step with one thread or all cores, whichever a ThreadChooser measures
+  /// faster (thread_choice.hpp); false: the count set_threads() set.
+  bool auto_threads = false;
 };
 
 /// The flat cloth colour of ViewerOptions::flat_cloth (8-bit RGB), for tests that look for it.
