@@ -72,7 +72,8 @@ bool step_splits(const Model& model) {
 
 int core_count() {
 #ifdef _OPENMP
-  return std::max(1, omp_get_num_procs());
+  // the cores this process may use, capped by OMP_NUM_THREADS when that is set lower
+  return std::max(1, std::min(omp_get_num_procs(), omp_get_max_threads()));
 #else
   return 1;
 #endif

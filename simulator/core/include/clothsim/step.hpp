@@ -101,7 +101,8 @@ int threads();
 /// Whether step() splits any of its loops between threads for this model; when it does not
 /// (a small model), it runs on one thread whatever set_threads() said.
 bool step_splits(const Model& model);
-/// The cores this process may run on (OpenMP's count; 1 without OpenMP): what set_threads(0) takes.
+/// The cores this process may run on (OpenMP's count, capped by OMP_NUM_THREADS when that is
+/// lower; 1 without OpenMP): the most --threads auto uses.
 int core_count();
 
 /// 1/2 sum m |v|^2 over the free masses, J.
