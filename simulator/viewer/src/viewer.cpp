@@ -331,8 +331,12 @@ class Viewer {
                          : paused_   ? " | paused"
                          : clock_.behind() ? " | slower than real time"
                                            : "";
-    const std::string stats =
-        view::stats_text(model_.scene_name, gpu_.target.width, gpu_.target.height, state_.t, rates, status);
+    // --threads auto on a model that splits: the count it steps with now
+    const std::string threads_now =
+        chooser_ && chooser_->cores() > 1 ? " | " + std::to_string(threads()) + (threads() == 1 ? " thread" : " threads") + " (auto)"
+                                          : std::string();
+    const std::string stats = view::stats_text(model_.scene_name, gpu_.target.width, gpu_.target.height, state_.t,
+                                               rates, status + threads_now);
     const std::string keys = "Space pause  N step  R reset  W wire  S springs  P shot  H text  Esc quit";
     glfwSetWindowTitle(window_, (stats + " | " + keys).c_str());
     overlay_ = stats + "\n" + keys +
