@@ -327,8 +327,8 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     chooser.emplace(core_count());  // made again for the model below
   } else {
     std::uint64_t count = 0;
-    if (const std::string why = parse_count("--threads", threads_text, 0, 1024, count); !why.empty())
-      return bad_input(why + " (or auto)");
+    if (!parse_count("--threads", threads_text, 0, 1024, count).empty())
+      return bad_input("--threads must be auto or a whole number 0..1024 (0: all cores; got '" + threads_text + "')");
     set_threads(static_cast<int>(count));
   }
   if (o_seconds->count() && !(std::isfinite(seconds) && seconds >= 0.0))
