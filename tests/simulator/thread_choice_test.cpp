@@ -145,5 +145,24 @@ TEST(ThreadChooser, TheHoldDoublesUpToItsCap) {
     EXPECT_EQ(feed_to_next_trial(c, kManyTwiceAsFast), static_cast<std::uint64_t>(held / kMany) + trial) << held;
 }
 
+TEST(ThreadChooser, SlowStepsAreHeldLongerThanTheirTrials) {
+  // 1/8 s per step on many threads, 1/4 on one (a huge model): a trial takes 34 steps of
+  // each, 12.75 s; held only 1 s, the run would spend most of its time in trials. The hold
+  // is kHoldPerTrial times the trial: 102 s = 816 steps, and the doubling stays there.
+  ThreadChooser c(2);
+  const StepTime slow = [](int t, std::uint64_t) { return t == 1 ? 0.25 : 0.125; };
+  const std::uint64_t trial = feed_to_next_trial(c, slow);
+  ASSERT_EQ(trial, 2u * (ThreadChooser::kWarm + ThreadChooser::kTrialSteps));
+  EXPECT_EQ(c.threads(), 2);
+  const double trial_seconds = (ThreadChooser::kWarm + ThreadChooser::kTrialSteps) * (0.25 + 0.125);
+  const auto held = static_cast<std::uint64_t>(ThreadChooser::kHoldPerTrial * trial_seconds / 0.125);
+  EXPECT_EQ(feed_to_next_trial(c, slow), held + trial);
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(feed_to_next_trial(c, slow), held + trial);
+  // over these ten holds the slower count's trials take under 9 % of the time (7.4 % per
+  // hold and trial); held 1 s they would take two thirds of it
+  EXPECT_LT(0.25 * static_cast<double>(c.steps_one()),
+            0.09 * (0.25 * static_cast<double>(c.steps_one()) + 0.125 * static_cast<double>(c.steps_many())));
+}
+
 }  // namespace
 }  // namespace clothsim

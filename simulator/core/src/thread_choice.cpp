@@ -29,9 +29,11 @@ void ThreadChooser::step_took(double seconds) {
     if (held_ < hold_) return;
     // Time for a new trial: the count in use first (it is warm), then the other one.
     phase_ = Phase::First;
+    trial_time_ = 0.0;
     start_trial_of(current_);
     return;
   }
+  trial_time_ += t;
   if (warm_left_ > 0) {
     --warm_left_;
     return;
@@ -48,7 +50,8 @@ void ThreadChooser::step_took(double seconds) {
   ++trials_;
   const int winner = mean_[1] < kMargin * mean_[0] ? cores_ : 1;
   if (winner != 1) ++won_many_;
-  hold_ = winner == last_winner_ ? std::min(2.0 * hold_, kHoldMaxSeconds) : kHoldSeconds;
+  const double base = std::max(kHoldSeconds, kHoldPerTrial * trial_time_);
+  hold_ = winner == last_winner_ ? std::max(base, std::min(2.0 * hold_, std::max(kHoldMaxSeconds, base))) : base;
   last_winner_ = winner;
   current_ = winner;
   phase_ = Phase::Hold;

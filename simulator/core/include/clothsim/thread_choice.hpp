@@ -13,9 +13,11 @@ namespace clothsim {
 /// trial: kWarm steps left out, then at least kTrialSteps steps and kTrialSeconds of stepping
 /// timed; the one with the lower mean step time (the throughput) is kept for a while
 /// (kHoldSeconds of stepping, doubled each time the same count wins again, up to
-/// kHoldMaxSeconds), then both are tried again, so that a change in the load (another process
-/// taking a core) or in the scene (a cloth reaching its collider) is followed. Many threads
-/// must be faster by kMargin to be kept: a near tie leaves the second core free.
+/// kHoldMaxSeconds; at least kHoldPerTrial times what the trial took, so that slow steps do
+/// not spend their time in trials), then both are tried again, so that a change in the load
+/// (another process taking a core) or in the scene (a cloth reaching its collider) is
+/// followed. Many threads must be faster by kMargin to be kept: a near tie leaves the second
+/// core free.
 ///
 /// The mean, not the median: with a busy core most steps of two threads are fast, but every
 /// few milliseconds one waits a whole time slice at a barrier for the descheduled thread,
@@ -32,6 +34,7 @@ class ThreadChooser {
   static constexpr double kTrialSeconds = 0.05;    ///< and at least this much stepping time
   static constexpr double kHoldSeconds = 1.0;      ///< stepping time between trials, at first
   static constexpr double kHoldMaxSeconds = 16.0;  ///< ... doubled while the same count wins
+  static constexpr double kHoldPerTrial = 8.0;      ///< hold >= this x the last trial's time
   static constexpr double kMargin = 0.95;  ///< many threads kept when mean(many) < kMargin mean(one)
 
   /// cores <= 1 (or a model too small to split): always one thread, nothing measured.
@@ -63,6 +66,7 @@ class ThreadChooser {
   double sum_ = 0.0;
   double mean_[2] = {0.0, 0.0};  ///< [0] one thread, [1] many, of the current trial
   double hold_ = kHoldSeconds, held_ = 0.0;
+  double trial_time_ = 0.0;  ///< s of stepping in the current trial, both counts, warm steps too
   int last_winner_ = 0;
   std::uint64_t steps_[2] = {0, 0};
   std::uint64_t trials_ = 0, won_many_ = 0;
