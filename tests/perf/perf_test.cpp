@@ -138,14 +138,32 @@ TEST(Threads, SwitchingTheCountWhileSteppingIsBitIdentical) {
     EXPECT_GT(in_contact, 30);
     EXPECT_EQ(state_hash(s), one);
   }
-  {  // the chooser itself, starting on two threads and trying one after kWarm + kTrial steps
+  {  // the chooser itself, fed a fixed 2 ms per step (no clock: the same switches on any
+     // machine): 34 steps of trial on two threads, then the rest on one (its trial)
     State s = make_state(m);
     Workspace ws = make_workspace(m);
     ThreadChooser chooser(2);
-    for (int i = 0; i < 60; ++i) ASSERT_TRUE(chosen_step(chooser, m, s, ws).finite);
+    int switches = 0;
+    for (int i = 0; i < 60; ++i) {
+      if (threads() != chooser.threads()) set_threads(chooser.threads()), ++switches;
+      ASSERT_TRUE(step(m, s, ws).finite);
+      chooser.step_took(2e-3);
+    }
     set_threads(1);
-    EXPECT_GT(chooser.steps_one(), 0u);
-    EXPECT_GT(chooser.steps_many(), 0u);
+    EXPECT_EQ(chooser.steps_many(), static_cast<std::uint64_t>(ThreadChooser::kWarm + ThreadChooser::kTrialSteps));
+    EXPECT_EQ(chooser.steps_one(), 60 - chooser.steps_many());
+    EXPECT_GE(switches, 1);
+    EXPECT_EQ(state_hash(s), one);
+  }
+  {  // chosen_step() (its clock): the first steps of the first trial are on all cores
+    State s = make_state(m);
+    Workspace ws = make_workspace(m);
+    ThreadChooser chooser(2);
+    for (int i = 0; i < 10; ++i) ASSERT_TRUE(chosen_step(chooser, m, s, ws).finite);
+    EXPECT_EQ(threads(), 2);
+    EXPECT_EQ(chooser.steps_many(), 10u);
+    set_threads(1);
+    for (int i = 10; i < 60; ++i) ASSERT_TRUE(step(m, s, ws).finite);
     EXPECT_EQ(state_hash(s), one);
   }
 }

@@ -68,7 +68,10 @@ TEST(ThreadChooser, KeepsManyThreadsWhenTheyAreFaster) {
   EXPECT_EQ(feed_to_next_trial(c, kManyTwiceAsFast), 2 * held + first);
   EXPECT_EQ(c.trials_won_by_many(), 3u);
   // nearly all steps ran on two threads
-  EXPECT_GT(static_cast<double>(c.steps_many()), 0.95 * static_cast<double>(c.steps_many() + c.steps_one()));
+  EXPECT_GT(c.share_many(), 0.95);
+  EXPECT_DOUBLE_EQ(c.share_many(), static_cast<double>(c.steps_many()) /
+                                       static_cast<double>(c.steps_many() + c.steps_one()));
+  EXPECT_EQ(ThreadChooser(2).share_many(), 0.0);  // before any step
 }
 
 TEST(ThreadChooser, TakesOneThreadWhenManyAreSlowerOrOnlyAsFast) {

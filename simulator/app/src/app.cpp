@@ -604,8 +604,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
               << ", kinetic energy " << ke << " J, cloth y " << lo.y() << " .. " << hi.y() << "\n";
     if (chooser && chooser->cores() > 1 && chooser->steps_one() + chooser->steps_many() > 0)
       std::cout << "threads auto: " << chooser->cores() << " threads for "
-                << fmt_percent(static_cast<double>(chooser->steps_many()) /
-                               static_cast<double>(chooser->steps_one() + chooser->steps_many()))
+                << fmt_percent(chooser->share_many())
                 << " of the steps (" << chooser->trials_won_by_many() << " of " << chooser->trials()
                 << " trials won by " << chooser->cores() << " threads)\n";
   }

@@ -313,9 +313,7 @@ class Viewer {
     // (of the steps it took: R sets State::steps back, the chooser keeps counting)
     if (chooser_ && chooser_->cores() > 1 && chooser_->steps_one() + chooser_->steps_many() > 0)
       std::snprintf(thread_note, sizeof thread_note, "; threads auto: %d for %.1f %% of the steps",
-                    chooser_->cores(),
-                    100.0 * static_cast<double>(chooser_->steps_many()) /
-                        static_cast<double>(chooser_->steps_one() + chooser_->steps_many()));
+                    chooser_->cores(), 100.0 * chooser_->share_many());
     std::printf("clothsim: viewer closed at t = %.2f s after %llu steps%s (%.3f ms/step, %.2fx real "
                 "time over %.2f s running, %s; %ld frames in %.2f s%s)%s\n",
                 state_.t, static_cast<unsigned long long>(steps_done), of_sub.c_str(),

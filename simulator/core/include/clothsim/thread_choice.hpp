@@ -49,6 +49,11 @@ class ThreadChooser {
   /// Steps taken with one thread and with `cores` threads (trials included).
   std::uint64_t steps_one() const { return steps_[0]; }
   std::uint64_t steps_many() const { return steps_[1]; }
+  /// The share of those steps taken with `cores` threads (0 before any step).
+  double share_many() const {
+    const std::uint64_t all = steps_[0] + steps_[1];
+    return all > 0 ? static_cast<double>(steps_[1]) / static_cast<double>(all) : 0.0;
+  }
   int cores() const { return cores_; }
   /// Finished trials (each measured both counts), and how many of them kept many threads.
   std::uint64_t trials() const { return trials_; }
