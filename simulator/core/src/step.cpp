@@ -109,7 +109,9 @@ SpringAdjacency SpringAdjacency::build(const Model& model) {
   for (std::size_t b = 0; b < blocks; ++b)
     for (std::size_t j = a.block_start[b] + 1; j < a.block_start[b + 1]; ++j)
       if (a.block_springs[j] != a.block_springs[j - 1] + 1) a.blocks_consecutive = false;
-  // the a ends' runs: consecutive spring indices at the head of each mass's list
+  // the a ends' runs: consecutive spring indices at the head of each mass's list (fewer than
+  // 2^27 springs: the AVX2 gather then reads a b end's byte offset as entry << 5 in 32 bits)
+  if (s_count >= (std::size_t{1} << 27)) return a;
   a.run.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     std::uint32_t e = a.start[i];
@@ -395,7 +397,53 @@ __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const Sp
   const std::uint32_t* entry = adj.entry.data();
   const std::uint32_t* run = adj.run.empty() ? nullptr : adj.run.data();
   alignas(32) static const double signs[8] = {0.0, 0.0, 0.0, 0.0, -0.0, -0.0, -0.0, -0.0};
-  for (std::size_t i = i0; i < i1; ++i) {
+  const char* fb = reinterpret_cast<const char*>(fs);
+  std::size_t i = i0;
+  if (run) {
+    // Two masses at a time, their sums interleaved term by term (each in its own order, so
+    // the same bits): two dependency chains of adds for the core to overlap.
+    for (; i + 2 <= i1; i += 2) {
+      __m256d f[2];
+      for (int h = 0; h < 2; ++h) {
+        const std::size_t k = i + static_cast<std::size_t>(h);
+        if (pv) {
+          const __m256d v = _mm256_setr_pd(pv[3 * k], pv[3 * k + 1], pv[3 * k + 2], 0.0);
+          f[h] = _mm256_sub_pd(_mm256_mul_pd(g, _mm256_set1_pd(m[k])), _mm256_mul_pd(gamma, v));
+        } else {
+          f[h] = _mm256_setr_pd(pf[3 * k], pf[3 * k + 1], pf[3 * k + 2], 0.0);
+        }
+      }
+      // the a ends: consecutive springs from the first entry on
+      const std::uint32_t na0 = run[i], na1 = run[i + 1];
+      const double* q0 = na0 > 0 ? fs + 4 * std::size_t{entry[start[i]]} : fs;
+      const double* q1 = na1 > 0 ? fs + 4 * std::size_t{entry[start[i + 1]]} : fs;
+      const std::uint32_t both = std::min(na0, na1);
+      std::uint32_t t = 0;
+      for (; t < both; ++t) {
+        f[0] = _mm256_add_pd(f[0], _mm256_load_pd(q0 + 4 * std::size_t{t}));
+        f[1] = _mm256_add_pd(f[1], _mm256_load_pd(q1 + 4 * std::size_t{t}));
+      }
+      for (std::uint32_t u = t; u < na0; ++u) f[0] = _mm256_add_pd(f[0], _mm256_load_pd(q0 + 4 * std::size_t{u}));
+      for (std::uint32_t u = t; u < na1; ++u) f[1] = _mm256_add_pd(f[1], _mm256_load_pd(q1 + 4 * std::size_t{u}));
+      // the b ends: entry << 5 in 32 bits is the byte offset (see below)
+      const std::uint32_t *b0 = entry + start[i] + na0, *b0_end = entry + start[i + 1];
+      const std::uint32_t *b1 = entry + start[i + 1] + na1, *b1_end = entry + start[i + 2];
+      for (; b0 < b0_end && b1 < b1_end; ++b0, ++b1) {
+        f[0] = _mm256_sub_pd(f[0], _mm256_load_pd(reinterpret_cast<const double*>(fb + static_cast<std::uint32_t>(*b0 << 5))));
+        f[1] = _mm256_sub_pd(f[1], _mm256_load_pd(reinterpret_cast<const double*>(fb + static_cast<std::uint32_t>(*b1 << 5))));
+      }
+      for (; b0 < b0_end; ++b0)
+        f[0] = _mm256_sub_pd(f[0], _mm256_load_pd(reinterpret_cast<const double*>(fb + static_cast<std::uint32_t>(*b0 << 5))));
+      for (; b1 < b1_end; ++b1)
+        f[1] = _mm256_sub_pd(f[1], _mm256_load_pd(reinterpret_cast<const double*>(fb + static_cast<std::uint32_t>(*b1 << 5))));
+      for (int h = 0; h < 2; ++h) {
+        double* out = pf + 3 * (i + static_cast<std::size_t>(h));
+        _mm_storeu_pd(out, _mm256_castpd256_pd128(f[h]));
+        _mm_store_sd(out + 2, _mm256_extractf128_pd(f[h], 1));
+      }
+    }
+  }
+  for (; i < i1; ++i) {
     __m256d f;
     if (pv) {
       const __m256d v = _mm256_setr_pd(pv[3 * i], pv[3 * i + 1], pv[3 * i + 2], 0.0);
@@ -412,11 +460,27 @@ __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const Sp
       const std::uint32_t na = run[i];
       if (na > 0) {
         const double* q = fs + 4 * std::size_t{entry[e]};
-        for (std::uint32_t k = 0; k < na; ++k) f = _mm256_add_pd(f, _mm256_load_pd(q + 4 * std::size_t{k}));
+        const double* q_end = q + 4 * std::size_t{na};
+        for (; q + 8 <= q_end; q += 8) {  // two terms per turn, in order (the same sums)
+          f = _mm256_add_pd(f, _mm256_load_pd(q));
+          f = _mm256_add_pd(f, _mm256_load_pd(q + 4));
+        }
+        if (q < q_end) f = _mm256_add_pd(f, _mm256_load_pd(q));
         e += na;
       }
-      for (; e < end; ++e)  // the rest are b ends (SpringAdjacency::build checked)
-        f = _mm256_sub_pd(f, _mm256_load_pd(fs + 4 * std::size_t{entry[e] & ~SpringAdjacency::kB}));
+      // The rest are b ends (SpringAdjacency::build checked): entry = spring | kB, and
+      // entry << 5 in 32 bits drops the flag and is the byte offset of fs[4 spring] (run is
+      // made only for fewer than 2^27 springs).
+      const auto at = [fb](std::uint32_t en) {
+        return reinterpret_cast<const double*>(fb + static_cast<std::uint32_t>(en << 5));
+      };
+      const std::uint32_t *b = entry + e, *b_end = entry + end;
+      for (; b + 2 <= b_end; b += 2) {  // two terms per turn, in order
+        f = _mm256_sub_pd(f, _mm256_load_pd(at(b[0])));
+        f = _mm256_sub_pd(f, _mm256_load_pd(at(b[1])));
+      }
+      if (b < b_end) f = _mm256_sub_pd(f, _mm256_load_pd(at(*b)));
+      e = end;
     } else {
       for (; e < end && !(entry[e] & SpringAdjacency::kB); ++e)
         f = _mm256_add_pd(f, _mm256_load_pd(fs + 4 * std::size_t{entry[e]}));

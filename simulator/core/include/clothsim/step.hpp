@@ -29,7 +29,7 @@ struct SpringAdjacency {
   bool blocks_consecutive = false;
   /// When every mass's springs as the a end are consecutive indices at the head of its list
   /// (ModelBuilder's order), run[i] says how many: the AVX2 gather then reads them as a
-  /// range, without their entries. Empty otherwise.
+  /// range, without their entries. Empty otherwise, and from 2^27 springs on.
   std::vector<std::uint32_t> run;
   /// Throws std::length_error for more than 2^31 - 1 springs.
   static SpringAdjacency build(const Model& model);
