@@ -386,6 +386,24 @@ __attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const 
   spring_pass_scalar(model, px, fs, j, j1, list);
 }
 
+// The gather's first term for mass i: g m_i - gamma v_i with v, else the f_i already there.
+__attribute__((target("avx2"), always_inline)) inline __m256d mass_base(std::size_t i, const double* m, __m256d g,
+                                                                        __m256d gamma, const double* pv,
+                                                                        const double* pf) {
+  if (pv) {
+    const __m256d v = _mm256_setr_pd(pv[3 * i], pv[3 * i + 1], pv[3 * i + 2], 0.0);
+    return _mm256_sub_pd(_mm256_mul_pd(g, _mm256_set1_pd(m[i])), _mm256_mul_pd(gamma, v));
+  }
+  return _mm256_setr_pd(pf[3 * i], pf[3 * i + 1], pf[3 * i + 2], 0.0);
+}
+
+// The force of the spring whose b end entry `en` is (spring | kB): en << 5 in 32 bits drops
+// the flag and is the byte offset of fs[4 spring] (SpringAdjacency::run, which enables the
+// paths that use this, is made only for fewer than 2^27 springs).
+__attribute__((target("avx2"), always_inline)) inline __m256d b_term(const char* fs_bytes, std::uint32_t en) {
+  return _mm256_load_pd(reinterpret_cast<const double*>(fs_bytes + static_cast<std::uint32_t>(en << 5)));
+}
+
 __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const SpringAdjacency& adj,
                                                     const double* fs, const double* pv, double* pf,
                                                     std::size_t i0, std::size_t i1) {
@@ -403,16 +421,7 @@ __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const Sp
     // Two masses at a time, their sums interleaved term by term (each in its own order, so
     // the same bits): two dependency chains of adds for the core to overlap.
     for (; i + 2 <= i1; i += 2) {
-      __m256d f[2];
-      for (int h = 0; h < 2; ++h) {
-        const std::size_t k = i + static_cast<std::size_t>(h);
-        if (pv) {
-          const __m256d v = _mm256_setr_pd(pv[3 * k], pv[3 * k + 1], pv[3 * k + 2], 0.0);
-          f[h] = _mm256_sub_pd(_mm256_mul_pd(g, _mm256_set1_pd(m[k])), _mm256_mul_pd(gamma, v));
-        } else {
-          f[h] = _mm256_setr_pd(pf[3 * k], pf[3 * k + 1], pf[3 * k + 2], 0.0);
-        }
-      }
+      __m256d f[2] = {mass_base(i, m, g, gamma, pv, pf), mass_base(i + 1, m, g, gamma, pv, pf)};
       // the a ends: consecutive springs from the first entry on
       const std::uint32_t na0 = run[i], na1 = run[i + 1];
       const double* q0 = na0 > 0 ? fs + 4 * std::size_t{entry[start[i]]} : fs;
@@ -425,17 +434,15 @@ __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const Sp
       }
       for (std::uint32_t u = t; u < na0; ++u) f[0] = _mm256_add_pd(f[0], _mm256_load_pd(q0 + 4 * std::size_t{u}));
       for (std::uint32_t u = t; u < na1; ++u) f[1] = _mm256_add_pd(f[1], _mm256_load_pd(q1 + 4 * std::size_t{u}));
-      // the b ends: entry << 5 in 32 bits is the byte offset (see below)
+      // the b ends
       const std::uint32_t *b0 = entry + start[i] + na0, *b0_end = entry + start[i + 1];
       const std::uint32_t *b1 = entry + start[i + 1] + na1, *b1_end = entry + start[i + 2];
       for (; b0 < b0_end && b1 < b1_end; ++b0, ++b1) {
-        f[0] = _mm256_sub_pd(f[0], _mm256_load_pd(reinterpret_cast<const double*>(fb + static_cast<std::uint32_t>(*b0 << 5))));
-        f[1] = _mm256_sub_pd(f[1], _mm256_load_pd(reinterpret_cast<const double*>(fb + static_cast<std::uint32_t>(*b1 << 5))));
+        f[0] = _mm256_sub_pd(f[0], b_term(fb, *b0));
+        f[1] = _mm256_sub_pd(f[1], b_term(fb, *b1));
       }
-      for (; b0 < b0_end; ++b0)
-        f[0] = _mm256_sub_pd(f[0], _mm256_load_pd(reinterpret_cast<const double*>(fb + static_cast<std::uint32_t>(*b0 << 5))));
-      for (; b1 < b1_end; ++b1)
-        f[1] = _mm256_sub_pd(f[1], _mm256_load_pd(reinterpret_cast<const double*>(fb + static_cast<std::uint32_t>(*b1 << 5))));
+      for (; b0 < b0_end; ++b0) f[0] = _mm256_sub_pd(f[0], b_term(fb, *b0));
+      for (; b1 < b1_end; ++b1) f[1] = _mm256_sub_pd(f[1], b_term(fb, *b1));
       for (int h = 0; h < 2; ++h) {
         double* out = pf + 3 * (i + static_cast<std::size_t>(h));
         _mm_storeu_pd(out, _mm256_castpd256_pd128(f[h]));
@@ -443,14 +450,8 @@ __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const Sp
       }
     }
   }
-  for (; i < i1; ++i) {
-    __m256d f;
-    if (pv) {
-      const __m256d v = _mm256_setr_pd(pv[3 * i], pv[3 * i + 1], pv[3 * i + 2], 0.0);
-      f = _mm256_sub_pd(_mm256_mul_pd(g, _mm256_set1_pd(m[i])), _mm256_mul_pd(gamma, v));
-    } else {
-      f = _mm256_setr_pd(pf[3 * i], pf[3 * i + 1], pf[3 * i + 2], 0.0);
-    }
+  for (; i < i1; ++i) {  // one at a time: every mass without runs, else the last of an odd range
+    __m256d f = mass_base(i, m, g, gamma, pv, pf);
     // A run of a ends (+fs), a run of b ends (-fs: f - y), then any other order term by term
     // (ModelBuilder orders springs so that there is none; then the a ends are consecutive
     // springs, read as a range, and the rest are all b ends).
@@ -460,26 +461,11 @@ __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const Sp
       const std::uint32_t na = run[i];
       if (na > 0) {
         const double* q = fs + 4 * std::size_t{entry[e]};
-        const double* q_end = q + 4 * std::size_t{na};
-        for (; q + 8 <= q_end; q += 8) {  // two terms per turn, in order (the same sums)
-          f = _mm256_add_pd(f, _mm256_load_pd(q));
-          f = _mm256_add_pd(f, _mm256_load_pd(q + 4));
-        }
-        if (q < q_end) f = _mm256_add_pd(f, _mm256_load_pd(q));
+        for (std::uint32_t k = 0; k < na; ++k) f = _mm256_add_pd(f, _mm256_load_pd(q + 4 * std::size_t{k}));
         e += na;
       }
-      // The rest are b ends (SpringAdjacency::build checked): entry = spring | kB, and
-      // entry << 5 in 32 bits drops the flag and is the byte offset of fs[4 spring] (run is
-      // made only for fewer than 2^27 springs).
-      const auto at = [fb](std::uint32_t en) {
-        return reinterpret_cast<const double*>(fb + static_cast<std::uint32_t>(en << 5));
-      };
-      const std::uint32_t *b = entry + e, *b_end = entry + end;
-      for (; b + 2 <= b_end; b += 2) {  // two terms per turn, in order
-        f = _mm256_sub_pd(f, _mm256_load_pd(at(b[0])));
-        f = _mm256_sub_pd(f, _mm256_load_pd(at(b[1])));
-      }
-      if (b < b_end) f = _mm256_sub_pd(f, _mm256_load_pd(at(*b)));
+      // the rest are b ends (SpringAdjacency::build checked)
+      for (const std::uint32_t* b = entry + e; b < entry + end; ++b) f = _mm256_sub_pd(f, b_term(fb, *b));
       e = end;
     } else {
       for (; e < end && !(entry[e] & SpringAdjacency::kB); ++e)
