@@ -48,6 +48,9 @@ int team(std::size_t work) {
   return work >= kTeamWork ? t : 1;
 }
 
+// The collision loop's work for team(): a query costs ~10 spring terms, so half a mass's.
+std::size_t collision_work(std::size_t masses, std::size_t objects) { return masses * objects / 2; }
+
 }  // namespace
 
 void set_threads(int n) {
@@ -65,7 +68,7 @@ bool step_splits(const Model& model) {
   const std::size_t n = model.mass_count();
   std::size_t collision = 0;
 #ifdef CLOTHSIM_HAVE_COLLISION
-  if (model.colliders) collision = n * model.colliders->object_count() / 2;  // as compute_forces() asks
+  if (model.colliders) collision = collision_work(n, model.colliders->object_count());
 #endif
   return std::max(n, collision) >= kTeamWork;  // team() of the mass loops and of the collision
 }
@@ -601,7 +604,7 @@ void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::
     const ColliderSet& set = *model.colliders;
     PenaltyStats stats;
     const std::size_t n = model.mass_count();
-    const int nt = team(n * set.object_count() / 2);  // a query costs ~10 spring terms
+    const int nt = team(collision_work(n, set.object_count()));
     if (!ws.collision) {  // a Workspace not made by make_workspace: the hints, if sized
       accumulate_penalty(set, x, o.epsilon, o.k_rep, f, stats, std::span<std::int32_t>(ws.contact_hint));
     } else if (nt <= 1) {

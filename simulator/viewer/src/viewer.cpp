@@ -27,7 +27,6 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 namespace clothsim {
 
@@ -460,8 +459,7 @@ class Viewer {
   // glFinish() after each frame (see the main loop): a software renderer while the steps'
   // threads take every core.
   bool finish_frames() const {
-    const unsigned cores = std::thread::hardware_concurrency();
-    return software_ && threads() > 1 && static_cast<unsigned>(threads()) >= cores;
+    return software_ && threads() > 1 && threads() >= core_count();
   }
 
   void render() {
