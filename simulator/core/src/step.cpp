@@ -140,8 +140,8 @@ struct SpringSplit {
   int threads = 0;                         ///< made for this many threads (0: not yet)
   std::vector<std::uint32_t> chunk_start;  ///< (threads + 1) each thread's first chunk
   std::vector<std::uint32_t> chunk_mass;   ///< (chunks + 1) each chunk's first mass, then n
-  std::vector<std::uint32_t> local_start, local;  ///< (chunks + 1), springs by chunk
-  std::vector<std::uint32_t> out_start, out;      ///< (threads + 1), springs by thread
+  std::vector<std::uint32_t> local_start, local;  ///< (chunks + 1), springs by chunk (increasing in each)
+  std::vector<std::uint32_t> out_start, out;      ///< (threads + 1), springs by thread (increasing in each)
 
   void make(const Model& model, int nt) {
     const std::size_t n = model.mass_count(), sc = model.spring_count();
@@ -317,9 +317,12 @@ void mass_pass_scalar(const Model& model, const SpringAdjacency& adj, const doub
 }
 
 #ifdef CLOTHSIM_AVX2
-__attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const double* px, double* fs,
-                                                      std::size_t j0, std::size_t j1,
-                                                      const std::uint32_t* list = nullptr) {
+// Listed: springs list[j0..j1), else springs j0..j1 (a range: consecutive rest lengths and
+// kinds, contiguous stores, no list to read).
+template <bool Listed>
+__attribute__((target("avx2"))) void spring_pass_avx2_impl(const Model& model, const double* px, double* fs,
+                                                           std::size_t j0, std::size_t j1,
+                                                           const std::uint32_t* list) {
   const std::uint32_t* sa = model.spring_a.data();
   const std::uint32_t* sb = model.spring_b.data();
   const double* rest = model.rest_length0.data();
@@ -335,7 +338,7 @@ __attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const 
   for (; j + 4 * G <= j1; j += 4 * G) {
     std::size_t sl[G][4];
     for (int g = 0; g < G; ++g)
-      for (int l = 0; l < 4; ++l) sl[g][l] = list ? list[j + 4 * g + l] : j + 4 * g + l;
+      for (int l = 0; l < 4; ++l) sl[g][l] = Listed ? list[j + 4 * g + l] : j + 4 * g + l;
     __m256d dx[G], dy[G], dz[G], len[G], kv[G], rv[G], c[G];
     for (int g = 0; g < G; ++g) {
       // per spring a lane vector xa - xb = (dx, dy, dz, 0), then transposed to dx, dy, dz of 4 springs
@@ -357,10 +360,10 @@ __attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const 
     for (int g = 0; g < G; ++g) {
       // A block's list is mostly runs of consecutive springs (the converter writes them edge by
       // edge): then the rest lengths and kinds load as in the list-free case.
-      const bool run = list && sl[g][3] == sl[g][0] + 3;
+      const bool run = Listed && sl[g][3] == sl[g][0] + 3;
       const std::size_t s0 = sl[g][0];
       __m256i kinds;  // the 4 kind bytes, widened
-      if (list && !run) {
+      if (Listed && !run) {
         kinds = _mm256_setr_epi64x(kind[sl[g][0]], kind[sl[g][1]], kind[sl[g][2]], kind[sl[g][3]]);
         rv[g] = _mm256_setr_pd(rest[sl[g][0]], rest[sl[g][1]], rest[sl[g][2]], rest[sl[g][3]]);
       } else {
@@ -386,7 +389,16 @@ __attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const 
       _mm256_store_pd(fs + 4 * sl[g][3], _mm256_permute2f128_pd(t1, t3, 0x31));
     }
   }
-  spring_pass_scalar(model, px, fs, j, j1, list);
+  spring_pass_scalar(model, px, fs, j, j1, Listed ? list : nullptr);
+}
+
+__attribute__((target("avx2"))) void spring_pass_avx2(const Model& model, const double* px, double* fs,
+                                                      std::size_t j0, std::size_t j1,
+                                                      const std::uint32_t* list = nullptr) {
+  if (list)
+    spring_pass_avx2_impl<true>(model, px, fs, j0, j1, list);
+  else
+    spring_pass_avx2_impl<false>(model, px, fs, j0, j1, nullptr);
 }
 
 // The gather's first term for mass i: g m_i - gamma v_i with v, else the f_i already there.
@@ -532,6 +544,12 @@ void gathered_springs(const Model& model, const Eigen::Matrix3Xd& x, const doubl
     return;
   }
   const auto pass = [&](std::size_t j0, std::size_t j1, const std::uint32_t* list) {
+    // SpringSplit's lists are in increasing spring order: one whose ends are j1 - 1 - j0 apart
+    // is a range (most chunks' are: only springs to another thread's masses leave gaps).
+    if (list && j1 > j0 && list[j1 - 1] - list[j0] == j1 - 1 - j0) {
+      j1 = list[j0] + (j1 - j0), j0 = list[j0];
+      list = nullptr;
+    }
 #ifdef CLOTHSIM_AVX2
     if (avx2) return spring_pass_avx2(model, px, fs, j0, j1, list);
 #endif
