@@ -2,6 +2,7 @@
 #include "perf_scenes.hpp"
 
 #include <clothsim/integrators.hpp>
+#include <clothsim/model_builder.hpp>
 #include <clothsim/thread_choice.hpp>
 
 #include <gtest/gtest.h>
@@ -89,6 +90,39 @@ TEST(Gather, RunsOfAEndsAndSpringsInAnyOrder) {
     add_spring_forces(*m, s.x, ref);
     add_spring_forces(*m, s.x, got, ws);
     EXPECT_EQ(0, std::memcmp(got.data(), ref.data(), sizeof(double) * static_cast<std::size_t>(ref.size())));
+  }
+}
+
+// A chain whose every mass is joined to its next k (jittered positions): away from the ends
+// each mass has k a ends and k b ends (the paired gather's loops with equal counts; near the
+// ends unequal ones); every k gives the scatter's bits.
+TEST(Gather, ChainsWithOneToNineEndsOfEachKind) {
+  for (std::uint32_t k = 1; k <= 9; ++k) {
+    const std::uint32_t n = 203;  // an odd count: the last mass alone
+    Eigen::Matrix3Xd x(3, n);
+    std::mt19937_64 rng(k);
+    std::uniform_real_distribution<double> u(-0.01, 0.01);
+    for (std::uint32_t i = 0; i < n; ++i) x.col(i) = Eigen::Vector3d(0.05 * i + u(rng), u(rng), u(rng));
+    std::vector<SpringSpec> springs;
+    for (std::uint32_t i = 0; i < n; ++i)
+      for (std::uint32_t j = i + 1; j <= i + k && j < n; ++j)
+        springs.push_back(SpringSpec{i, j, static_cast<std::uint8_t>(j - i > 1), 0.05 * (j - i)});
+    ModelBuilder b(Options{}, "chain");
+    b.add_cloth(x, springs, {});
+    const Model m = b.build();
+    const SpringAdjacency adj = SpringAdjacency::build(m);
+    ASSERT_EQ(adj.run.size(), m.mass_count());
+    std::size_t uniform = 0;  // masses with k a ends and k b ends
+    for (std::size_t i = 0; i < m.mass_count(); ++i)
+      uniform += adj.run[i] == k && adj.start[i + 1] - adj.start[i] == 2 * k;
+    EXPECT_GE(uniform, n - 2 * k - 2) << "k = " << k;
+    const State s = make_state(m);
+    Workspace ws = make_workspace(m);
+    Eigen::Matrix3Xd ref = Eigen::Matrix3Xd::Random(3, s.x.cols()), got = ref;
+    add_spring_forces(m, s.x, ref);
+    add_spring_forces(m, s.x, got, ws);
+    EXPECT_EQ(0, std::memcmp(got.data(), ref.data(), sizeof(double) * static_cast<std::size_t>(ref.size())))
+        << "k = " << k;
   }
 }
 
