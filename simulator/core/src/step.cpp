@@ -108,10 +108,6 @@ SpringAdjacency SpringAdjacency::build(const Model& model) {
   std::vector<std::uint32_t> bfill(a.block_start.begin(), a.block_start.end() - 1);
   for (std::size_t s = 0; s < s_count; ++s)
     a.block_springs[bfill[std::min(model.spring_a[s], model.spring_b[s]) / kBlock]++] = static_cast<std::uint32_t>(s);
-  a.blocks_consecutive = true;
-  for (std::size_t b = 0; b < blocks; ++b)
-    for (std::size_t j = a.block_start[b] + 1; j < a.block_start[b + 1]; ++j)
-      if (a.block_springs[j] != a.block_springs[j - 1] + 1) a.blocks_consecutive = false;
   // the a ends' runs: consecutive spring indices at the head of each mass's list (fewer than
   // 2^27 springs: the AVX2 gather then reads a b end's byte offset as entry << 5 in 32 bits)
   if (s_count >= (std::size_t{1} << 27)) return a;
@@ -505,6 +501,15 @@ bool use_avx2() {
 }
 #endif
 
+// Springs list[j0..j1) of an increasing list (SpringAdjacency's blocks, SpringSplit's chunks):
+// when its ends are j1 - 1 - j0 apart they are consecutive, and become the range j0..j1 with
+// no list (the passes' faster form; the same springs, the same bits).
+void as_range(std::size_t& j0, std::size_t& j1, const std::uint32_t*& list) {
+  if (!list || j1 <= j0 || list[j1 - 1] - list[j0] != j1 - 1 - j0) return;
+  j1 = list[j0] + (j1 - j0), j0 = list[j0];
+  list = nullptr;
+}
+
 // Both passes over the whole model, split into static per-thread ranges (no reduction
 // between threads: each mass and spring is written by one thread only).
 void gathered_springs(const Model& model, const Eigen::Matrix3Xd& x, const double* pv, Eigen::Matrix3Xd& f,
@@ -526,10 +531,7 @@ void gathered_springs(const Model& model, const Eigen::Matrix3Xd& x, const doubl
     for (std::size_t b = 0; b < blocks; ++b) {
       std::size_t j0 = adj.block_start[b], j1 = adj.block_start[b + 1];
       const std::uint32_t* list = adj.block_springs.data();
-      if (adj.blocks_consecutive && j1 > j0) {  // the same springs as a range
-        j1 = adj.block_springs[j0] + (j1 - j0), j0 = adj.block_springs[j0];
-        list = nullptr;
-      }
+      as_range(j0, j1, list);
       const std::size_t i0 = b * SpringAdjacency::kBlock, i1 = std::min(nm, i0 + SpringAdjacency::kBlock);
 #ifdef CLOTHSIM_AVX2
       if (avx2) {
@@ -544,12 +546,7 @@ void gathered_springs(const Model& model, const Eigen::Matrix3Xd& x, const doubl
     return;
   }
   const auto pass = [&](std::size_t j0, std::size_t j1, const std::uint32_t* list) {
-    // SpringSplit's lists are in increasing spring order: one whose ends are j1 - 1 - j0 apart
-    // is a range (most chunks' are: only springs to another thread's masses leave gaps).
-    if (list && j1 > j0 && list[j1 - 1] - list[j0] == j1 - 1 - j0) {
-      j1 = list[j0] + (j1 - j0), j0 = list[j0];
-      list = nullptr;
-    }
+    as_range(j0, j1, list);  // most chunks' lists (only springs to another thread's masses leave gaps)
 #ifdef CLOTHSIM_AVX2
     if (avx2) return spring_pass_avx2(model, px, fs, j0, j1, list);
 #endif

@@ -20,13 +20,11 @@ struct SpringAdjacency {
   std::vector<std::uint32_t> entry;   ///< (2 s)
   /// One thread works in blocks of kBlock masses: block_springs[block_start[b] ..
   /// block_start[b+1]) are the springs whose lower mass is in block b (computed just before
-  /// the block's masses gather them).
+  /// the block's masses gather them), in increasing order; where they are consecutive indices
+  /// (ModelBuilder's order) the passes take them as a range, without the list.
   static constexpr std::size_t kBlock = 1024;
   std::vector<std::uint32_t> block_start;    ///< (blocks + 1)
   std::vector<std::uint32_t> block_springs;  ///< (s)
-  /// Every block's springs are consecutive indices (ModelBuilder's order): then the passes
-  /// take them as a range, without the list.
-  bool blocks_consecutive = false;
   /// When every mass's springs as the a end are consecutive indices at the head of its list
   /// (ModelBuilder's order), run[i] says how many: the AVX2 gather then reads them as a
   /// range, without their entries. Empty otherwise, and from 2^27 springs on.
