@@ -275,6 +275,50 @@ TEST(Cli, ReportHasTheKeys) {
   EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator{}), 1);
 }
 
+// --seconds covers the time asked: a whole number of steps of dt when it is one (up to
+// rounding), else one step more, never none for a positive time; a note says so.
+TEST(Cli, SecondsAreCoveredByWholeSteps) {
+  const fs::path d = fresh_dir("seconds");
+  struct Case {
+    const char* args;
+    int steps;
+    bool note;
+  } cases[] = {{"--seconds 0.5 --dt 1.5", 1, true},  {"--seconds 0.4 --dt 0.3", 2, true},
+               {"--seconds 0.3 --dt 0.1", 3, false}, {"--seconds 1 --dt 0.0004", 2500, false},
+               {"--seconds 0 --dt 0.01", 0, false},  {"--seconds 0.011 --dt 0.01", 2, true}};
+  for (const Case& c : cases) {
+    const fs::path report = d / "r.json";
+    const Result r = run(std::string("--headless --report ") + q(report) + " " + c.args);
+    ASSERT_EQ(r.code, 0) << c.args << ": " << r.output;
+    const auto j = read_json(report);
+    EXPECT_EQ(j["steps"], c.steps) << c.args;
+    EXPECT_EQ(r.output.find("is not a whole number of steps") != std::string::npos, c.note) << c.args << ": " << r.output;
+  }
+}
+
+// Two outputs at one path are refused before the run (the second would replace the first or
+// stop at it): also through ".." and a symbolic link (fileio_test: devices, "dir/").
+TEST(Cli, TwoOutputsAtOnePathAreRefusedBeforeRunning) {
+  const fs::path d = fresh_dir("same_output");
+  fs::create_directories(d / "out");
+  fs::create_directory_symlink(d / "out", d / "link");
+  for (const std::string& args : {"--export-obj " + q(d / "out" / "x") + " --report " + q(d / "out" / "x"),
+                                  "--export-obj " + q(d / "out" / "x") + " --report " + q(d / "out" / ".." / "out" / "x"),
+                                  "--export-obj " + q(d / "link" / "x") + " --report " + q(d / "out" / "x")}) {
+    const Result r = run("--headless --quiet --steps 20 " + args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("--report and --export-obj both name"), std::string::npos) << r.output;
+    EXPECT_EQ(lines(r.output), 1) << r.output;
+  }
+  EXPECT_TRUE(fs::is_empty(d / "out"));
+}
+
+TEST(Cli, ExportEveryWithoutExportObjIsBadInput) {
+  const Result r = run("--headless --quiet --steps 5 --export-every 5");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("--export-every needs --export-obj"), std::string::npos) << r.output;
+}
+
 // --threads: auto (the default) or a count; the report says which, and how many steps each
 // count took (a small model such as the dice's never splits: all on one thread).
 TEST(Cli, ThreadsAutoOrACountReachTheReport) {

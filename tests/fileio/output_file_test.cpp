@@ -193,3 +193,29 @@ TEST(OutputDir, ExistingFileInPlaceOfTheDirectoryIsRefused) {
 }
 
 }  // namespace
+
+
+TEST(SameOutput, OnePathNamedTwiceIsFoundHoweverItIsWritten) {
+  const fs::path d = fresh_dir("same");
+  fs::create_directories(d / "out");
+  fs::create_directory_symlink(d / "out", d / "link");
+  const std::string a = (d / "out" / "x").string();
+  using clothsim::io::same_output;
+  EXPECT_EQ(same_output({{"--a", a}, {"--b", (d / "out" / "y").string()}}), "");
+  EXPECT_EQ(same_output({{"--a", a}, {"--b", ""}, {"--c", ""}}), "");  // empty: not given
+  for (const std::string& b : {a, a + "/", (d / "out" / "." / "x").string(), (d / "out" / ".." / "out" / "x").string(),
+                               (d / "link" / "x").string()}) {
+    const std::string why = same_output({{"--a", a}, {"--b", b}});
+    EXPECT_NE(why.find("--a and --b both name"), std::string::npos) << b << ": " << why;
+  }
+  // the third of three against the first
+  EXPECT_NE(same_output({{"--a", a}, {"--b", (d / "z").string()}, {"--c", a}}).find("--a and --c"), std::string::npos);
+}
+
+TEST(SameOutput, ADeviceTakesEveryOutput) {
+  const fs::path d = fresh_dir("same_device");
+  if (!make_char_device(d / "mynull", 3)) GTEST_SKIP() << "mknod not permitted: " << std::strerror(errno);
+  const std::string dev = (d / "mynull").string();
+  EXPECT_EQ(clothsim::io::same_output({{"--report", dev}, {"--screenshot", dev}}), "");
+}
+

@@ -99,6 +99,15 @@ std::string fmt_percent(double fraction) {
   return text;
 }
 
+// The steps of dt that cover `seconds`: seconds / dt when that is a whole number (up to
+// rounding: 20 s / 0.0004 s is 50000, not 50001), else rounded up, so that a run lasts at
+// least the time asked (--seconds 0.5 at --dt 1.5 is one step, not none). 0 s is 0 steps.
+double steps_covering(double seconds, double dt) {
+  const double r = seconds / dt, nearest = std::round(r);
+  if (std::abs(r - nearest) <= 1e-9 * std::max(1.0, r)) return seconds > 0.0 ? std::max(nearest, 1.0) : nearest;
+  return std::ceil(r);
+}
+
 // A step count: whole numbers in full, beyond 1e15 as 1e+30.
 std::string fmt_count(double n) {
   return n < 1e15 ? std::to_string(static_cast<std::uint64_t>(n)) : fmt(n);
@@ -232,7 +241,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   auto* o_krep = app.add_option("--k-rep", k_rep, "Penalty stiffness k_rep of eq. 12, N/m");
   auto* o_report = app.add_option("--report", report, "Write a JSON report of the run to this file");
   auto* o_export = app.add_option("--export-obj", export_dir, "Write the cloth meshes as OBJ files into this directory");
-  app.add_option("--export-every", export_every_text,
+  auto* o_export_every = app.add_option("--export-every", export_every_text,
                  "With --export-obj: every K steps of --dt (substeps not counted; default 10)");
   app.add_flag("--quiet", quiet, "No progress bar and no summary");
   // issue 6: results are bit-identical for every count, so auto may switch while it runs
@@ -342,8 +351,16 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     return bad_input(why);
   // Output paths before the (possibly long) run: a directory named as the report, or a file
   // where the OBJ directory should be, is bad input found at once.
+  if (o_export_every->count() && !o_export->count())
+    return bad_input("--export-every needs --export-obj DIR (the OBJ files it paces)");
   if (o_report->count())
     if (const std::string why = io::check_output_file(report); !why.empty()) return bad_input("--report: " + why);
+  // Two outputs at one path: the first written would be lost to the second, or stop it.
+  if (const std::string why = io::same_output(
+          {{"--report", o_report->count() ? report : ""}, {"--export-obj", o_export->count() ? export_dir : ""},
+           {"--screenshot", o_screenshot->count() ? screenshot : ""}, {"--frames", o_frames->count() ? frames : ""}});
+      !why.empty())
+    return bad_input(why);
   if (o_export->count())
     if (const std::string why = io::check_output_dir(export_dir); !why.empty())
       return bad_input("--export-obj: " + why);
@@ -396,7 +413,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   // runs until the user closes it (n = 0).
   {
     const double n = o_steps->count()                     ? static_cast<double>(steps)
-                     : (headless || o_seconds->count()) ? std::round(seconds / opts.dt)
+                     : (headless || o_seconds->count()) ? steps_covering(seconds, opts.dt)
                                                         : 0.0;
     const double total_h = n * plan.substeps;
     if (!(total_h <= static_cast<double>(kMaxSteps))) {
@@ -453,7 +470,12 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   (void)paused;
 
   const std::uint64_t total =
-      o_steps->count() ? steps : static_cast<std::uint64_t>(std::llround(seconds / opts.dt));
+      o_steps->count() ? steps : static_cast<std::uint64_t>(steps_covering(seconds, opts.dt));
+  if (!o_steps->count() && !quiet && static_cast<double>(total) * opts.dt != seconds &&
+      std::abs(static_cast<double>(total) * opts.dt - seconds) > 1e-9 * seconds)
+    std::cerr << "clothsim: note: --seconds " << fmt(seconds) << " is not a whole number of steps of --dt "
+              << fmt(opts.dt) << ": " << total << " step" << (total == 1 ? "" : "s") << " (" << fmt(static_cast<double>(total) * opts.dt)
+              << " s)\n";
 
   const fs::path export_path = export_dir;
   if (o_export->count()) {

@@ -206,6 +206,24 @@ std::string check_output_dir(const std::string& dir) {
   }
 }
 
+std::string same_output(std::initializer_list<std::pair<std::string_view, std::string>> outputs) {
+  std::vector<std::pair<std::string_view, fs::path>> seen;
+  for (const auto& [option, path] : outputs) {
+    if (path.empty()) continue;
+    struct stat st {};
+    // A device (/dev/null) takes every output written into it: no output is lost there.
+    if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) continue;
+    std::error_code ec;
+    fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+    if (ec) p = fs::absolute(path).lexically_normal();
+    while (!p.empty() && !p.has_filename() && p != p.root_path()) p = p.parent_path();  // "dir/" is "dir"
+    for (const auto& [other, q] : seen)
+      if (q == p) return std::string(other) + " and " + std::string(option) + " both name " + quote(path);
+    seen.emplace_back(option, p);
+  }
+  return {};
+}
+
 std::string write_output_file(const std::string& path, std::string_view bytes) {
   if (path.empty()) return "no file name given";
   struct stat st {};

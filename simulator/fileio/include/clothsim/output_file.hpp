@@ -17,7 +17,9 @@
 // Messages are one line, name the file, and carry no program or option prefix.
 #pragma once
 
+#include <initializer_list>
 #include <string>
+#include <utility>
 #include <string_view>
 
 namespace clothsim::io {
@@ -45,6 +47,11 @@ std::string check_output_file(const std::string& path);
 /// Before a run: can files be written into directory `dir` (created later when missing)?
 /// Empty, or why not: it (or the nearest existing ancestor) is no directory, or not writable.
 std::string check_output_dir(const std::string& dir);
+
+/// Before a run: do two of the outputs (option name, path; an empty path: not given) name the
+/// same file or directory (after `.`, `..` and symbolic links)? Empty, or "--a and --b both
+/// name 'path'": the first output written would be lost to the second, or stop it.
+std::string same_output(std::initializer_list<std::pair<std::string_view, std::string>> outputs);
 
 /// Writes `bytes` to `path` by the rule above. Empty on success, else a one-line error.
 /// SIGPIPE and SIGXFSZ are ignored while writing: a closed pipe or a file size limit is an
