@@ -37,6 +37,23 @@ void check_outputs_are_not_inputs(const std::vector<std::filesystem::path>& outp
   }
 }
 
+// Refuses a --depfile that is one of the generated files (it would replace it: a header
+// holding Makefile text), by identity when both exist, else by canonical path.
+void check_depfile_is_no_output(const std::filesystem::path& depfile,
+                                const std::vector<std::filesystem::path>& generated) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path canon = fs::weakly_canonical(fs::absolute(depfile, ec), ec);
+  for (const fs::path& out : generated) {
+    std::error_code ec2;
+    const bool same = fs::exists(depfile, ec2) && fs::exists(out, ec2) ? fs::equivalent(depfile, out, ec2)
+                                                                        : canon == fs::weakly_canonical(fs::absolute(out, ec2), ec2);
+    if (same)
+      throw UsageError(depfile.string() + ": --depfile names a file the bake writes (" + out.filename().string() +
+                       "); give it another name, e.g. " + out.filename().string() + ".d");
+  }
+}
+
 }  // namespace
 
 int run(const Options& opt, std::ostream& log) {
@@ -65,7 +82,10 @@ int run(const Options& opt, std::ostream& log) {
   {
     std::vector<std::filesystem::path> outputs;
     for (const OutputFile& f : files) outputs.push_back(out_dir / f.name);
-    if (!opt.depfile.empty()) outputs.push_back(opt.depfile);
+    if (!opt.depfile.empty()) {
+      check_depfile_is_no_output(opt.depfile, outputs);
+      outputs.push_back(opt.depfile);
+    }
     check_outputs_are_not_inputs(outputs, scene.inputs_read);
   }
   const int changed = write_outputs(out_dir, files, extra);

@@ -251,6 +251,27 @@ TEST(Cli, DepfileFailureChangesNothing) {
   EXPECT_NE(read_file(dir / "deps" / "m.d").find((dir / "m.obj").string()), std::string::npos);
 }
 
+// A depfile named as one of the generated files (the header, the sources, the .S) would
+// replace it with Makefile text: bad usage (exit 2) before anything is written, on the first
+// run and on a second one (when the file exists).
+TEST(Cli, DepfileThatIsAnOutputIsRefused) {
+  const auto dir = scratch("cli_depfile_output");
+  write_file(dir / "m.obj", kTriangle);
+  for (const char* name : {"m.h", "m.cpp", "m.S"}) {
+    const auto r = run_converter({"-a", "Cloth", "--depfile", (dir / "out" / name).string(), "-t",
+                                  (dir / "out").string(), (dir / "m.obj").string()});
+    EXPECT_EQ(r.exit_code, 2) << name << "\n" << r.output;
+    EXPECT_NE(r.output.find("--depfile names a file the bake writes"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out")) << name;
+  }
+  ASSERT_EQ(run_converter({"-a", "Cloth", "-t", (dir / "out").string(), (dir / "m.obj").string()}).exit_code, 0);
+  const std::string header = read_file(dir / "out" / "m.h");
+  const auto r = run_converter({"-a", "Cloth", "--depfile", (dir / "out" / "." / "m.h").string(), "-t",
+                                (dir / "out").string(), (dir / "m.obj").string()});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(read_file(dir / "out" / "m.h"), header);
+}
+
 // `--depfile /dev/null` (and any character device or FIFO in an output's place) is written
 // into, never replaced by a regular file. (Tested with a device node of its own, not the real
 // /dev/null.)
