@@ -116,6 +116,12 @@ b2o::conv::Options parse(int argc, char** argv, bool& done) {
     } else if (arg == "-n" || arg == "--name") {
       o.name = need("-n");
       if (o.name.empty()) throw UsageError("-n: the name is empty");
+      // A name given is used as it is, or refused: the build that asked for NAME.h would not
+      // find the files of a cleaned name (class_.h).
+      if (b2o::conv::clean_identifier(o.name) != o.name)
+        throw UsageError("-n " + b2o::conv::quote_input(o.name) +
+                         ": not usable as a scene name (the C++ namespace b2o::gen::NAME): letters, digits and "
+                         "single '_' inside, not starting with a digit, and not a C++ keyword or std, b2o, gen");
     } else if (arg == "-p" || arg == "--pin") {
       const std::string spec = need("-p");
       const auto colon = spec.rfind(':');

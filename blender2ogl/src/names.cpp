@@ -8,7 +8,7 @@
 namespace b2o::conv {
 namespace {
 
-constexpr std::array<std::string_view, 97> kReserved = {
+constexpr std::array<std::string_view, 100> kReserved = {
     "alignas", "alignof", "and", "and_eq", "asm", "auto", "bitand", "bitor", "bool", "break", "case", "catch",
     "char", "char8_t", "char16_t", "char32_t", "class", "compl", "concept", "const", "consteval", "constexpr",
     "constinit", "const_cast", "continue", "co_await", "co_return", "co_yield", "decltype", "default", "delete",
@@ -18,8 +18,9 @@ constexpr std::array<std::string_view, 97> kReserved = {
     "requires", "return", "short", "signed", "sizeof", "static", "static_assert", "static_cast", "struct",
     "switch", "template", "this", "thread_local", "throw", "true", "try", "typedef", "typeid", "typename",
     "union", "unsigned", "using", "virtual", "void", "volatile", "wchar_t", "while", "xor", "xor_eq",
-    // names that would clash with macros or the generated API
-    "assert", "errno", "NULL", "scene"};
+    // names that would clash with macros, the generated API or the namespaces it names
+    // (a scene namespace b2o::gen::std would hide ::std for the code inside it)
+    "assert", "errno", "NULL", "scene", "std", "b2o", "gen"};
 
 }  // namespace
 

@@ -251,6 +251,21 @@ TEST(Cli, DepfileFailureChangesNothing) {
   EXPECT_NE(read_file(dir / "deps" / "m.d").find((dir / "m.obj").string()), std::string::npos);
 }
 
+// -n is used as given or refused (exit 2, nothing written): a build asking for NAME.h would not
+// find the files of a cleaned name (class_.h), and a namespace b2o::gen::std hid ::std.
+TEST(Cli, SceneNameThatWouldChangeIsRefused) {
+  const auto dir = scratch("cli_bad_name");
+  write_file(dir / "m.obj", kTriangle);
+  for (const char* name : {"class", "flag_", "std", "b2o", "my scene", "2d", "a__b", "scene"}) {
+    const auto r = run_converter({"-n", name, "-t", (dir / "out").string(), (dir / "m.obj").string()});
+    EXPECT_EQ(r.exit_code, 2) << name << "\n" << r.output;
+    EXPECT_NE(r.output.find("not usable as a scene name"), std::string::npos) << name << ": " << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out")) << name;
+  }
+  EXPECT_EQ(run_converter({"-n", "my_scene2", "-t", (dir / "out").string(), (dir / "m.obj").string()}).exit_code, 0);
+  EXPECT_TRUE(fs::exists(dir / "out" / "my_scene2.h"));
+}
+
 // A depfile named as one of the generated files (the header, the sources, the .S) would
 // replace it with Makefile text: bad usage (exit 2) before anything is written, on the first
 // run and on a second one (when the file exists).

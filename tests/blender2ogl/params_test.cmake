@@ -27,3 +27,22 @@ expect("dt" "'dt': expected KEY=VALUE")
 # every valid key passes the check (the configure then stops at the missing model file)
 expect("dt=0.001 mass=0.01 k_struct=1 k_bend=1 damping=0.1 gravity_x=0 gravity_y=-9.81 gravity_z=0 epsilon=0.01 k_rep=10"
        "blender2ogl_add_scene\\(flag\\): .*absent.obj: no such model file")
+# values the simulator would refuse at every start: not a number, out of range
+expect("dt=-1 mass=0" "'dt=-1': dt must be > 0 'mass=0': mass must be > 0")
+expect("k_struct=-5 damping=1e-3 k_rep=-0.5" "'k_struct=-5': k_struct must be >= 0 'k_rep=-0.5': k_rep must be >= 0")
+expect("dt=abc" "'dt=abc': the value is not a number")
+expect("epsilon=0x10" "'epsilon=0x10': the value is not a number")
+expect("gravity_y=-9.81 dt=2e-3 mass=.5 k_bend=0" "blender2ogl_add_scene\\(flag\\): .*absent.obj: no such model file")
+# names the converter would refuse or that would clash: stopped at configure time
+function(expect_name name want)
+  file(WRITE "${WORK}/case.cmake"
+       "include(\"${MODULE}\")\nblender2ogl_add_scene(${name} OBJ \"${WORK}/absent.obj\")\n")
+  execute_process(COMMAND ${CMAKE_COMMAND} -P "${WORK}/case.cmake" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(REGEX REPLACE "[ \t\r\n]+" " " text "${out}${err}")
+  if(rc EQUAL 0 OR NOT text MATCHES "${want}")
+    message(FATAL_ERROR "name ${name}: expected a failure matching '${want}' (${rc}):\n${out}${err}")
+  endif()
+endfunction()
+expect_name("flag_" "the name must be a C\\+\\+ identifier")
+expect_name("a__b" "the name must be a C\\+\\+ identifier")
+expect_name("2d" "the name must be a C\\+\\+ identifier")

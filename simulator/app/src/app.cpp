@@ -329,7 +329,13 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   } catch (const std::invalid_argument& e) {
     return bad_input(e.what());
   }
-  if (const std::string why = validate_options(opts); !why.empty()) return bad_input(why);
+  if (const std::string why = validate_options(opts); !why.empty()) {
+    // A value the scene bakes (PARAMS in generated/CMakeLists.txt), not one the user gave: say so.
+    if (validate_options(scene_opts) == why)
+      return bad_input(why + ", baked into scene '" + scene.name +
+                       "' (its PARAMS in generated/CMakeLists.txt); give the option on the command line to override it");
+    return bad_input(why);
+  }
   // --threads: auto, or a fixed count (0: all cores)
   std::optional<ThreadChooser> chooser;
   if (threads_text == "auto") {

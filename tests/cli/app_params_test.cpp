@@ -1,0 +1,41 @@
+// run_app() on a scene that bakes a value the simulator refuses (PARAMS dt=-1): the message
+// says the scene bakes it, and the command line can override it.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "../viewer/hand_scene.hpp"
+#include "app.hpp"
+
+namespace {
+
+int run(const b2o::Scene& scene, const std::vector<std::string>& options, std::string& err) {
+  std::vector<std::string> args{"clothsim"};
+  for (const std::string& o : options) args.push_back(o);
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  ::testing::internal::CaptureStderr();
+  const int code = clothsim::run_app(static_cast<int>(args.size()), argv.data(), scene);
+  err = ::testing::internal::GetCapturedStderr();
+  return code;
+}
+
+TEST(AppParams, ABakedValueOutOfRangeIsNamedAsTheScenes) {
+  clothsim::testing::HandScene hand(6);
+  const b2o::Param params[] = {{"dt", -1.0}};
+  hand.scene.params = params;
+  hand.scene.param_count = 1;
+  std::string err;
+  EXPECT_EQ(run(hand.scene, {"--headless", "--quiet", "--steps", "2"}, err), 2);
+  EXPECT_NE(err.find("dt must be a finite number > 0 (got -1), baked into scene"), std::string::npos) << err;
+  // given on the command line, the user's value is the one refused, without the scene's note
+  EXPECT_EQ(run(hand.scene, {"--headless", "--quiet", "--steps", "2", "--dt", "-2"}, err), 2);
+  EXPECT_NE(err.find("(got -2)"), std::string::npos) << err;
+  EXPECT_EQ(err.find("baked into scene"), std::string::npos) << err;
+  // and a good one overrides the scene's
+  EXPECT_EQ(run(hand.scene, {"--headless", "--quiet", "--steps", "2", "--dt", "0.001"}, err), 0) << err;
+}
+
+}  // namespace
