@@ -6,6 +6,7 @@
 #include <assimp/MemoryIOWrapper.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <stb/stb_image.h>
 
 #include <algorithm>
 #include <cstring>
@@ -26,6 +27,20 @@ std::string lower(std::string s) {
   for (char& c : s)
     if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
   return s;
+}
+
+// Empty when stb_image decodes the bytes (what the viewer uses), else stb's reason.
+std::string undecodable_image(const std::string& bytes) {
+  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) return "larger than 2 GiB";
+  int w = 0, h = 0, channels = 0;
+  stbi_uc* pixels = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), static_cast<int>(bytes.size()),
+                                          &w, &h, &channels, 4);
+  if (pixels == nullptr) {
+    const char* reason = stbi_failure_reason();
+    return reason != nullptr ? reason : "unknown format";
+  }
+  stbi_image_free(pixels);
+  return {};
 }
 
 bool finite3(const aiVector3D& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -327,13 +342,24 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
           const std::string bytes = ss.str();
           if (bytes.size() > std::numeric_limits<std::uint32_t>::max())
             throw InputError(p.string() + ": texture larger than 4 GiB");
-          Texture t;
-          t.name = written;
-          t.bytes.assign(bytes.begin(), bytes.end());
-          m.diffuse_texture = static_cast<std::int32_t>(out.textures.size());
-          texture_index[written] = m.diffuse_texture;
-          out.textures.push_back(std::move(t));
-          out.inputs_read.push_back(std::filesystem::absolute(p));
+          // Decoded once here as the viewer will decode it (stb_image): a file that is no
+          // image, or a format stb does not read (TIFF, EXR), stops the bake instead of the
+          // program that shows the scene.
+          if (const std::string why = undecodable_image(bytes); !why.empty()) {
+            const std::string what = p.string() + ": texture " + quote_input(written) + " of material " +
+                                     quote_input(m.name) + " cannot be decoded (" + why +
+                                     "; readable: PNG, JPEG, BMP, TGA, GIF, PSD, HDR, PNM)";
+            if (!allow_missing) throw InputError(what + "; --allow-missing converts without it");
+            out.warnings.push_back(what + "; the material gets no texture");
+          } else {
+            Texture t;
+            t.name = written;
+            t.bytes.assign(bytes.begin(), bytes.end());
+            m.diffuse_texture = static_cast<std::int32_t>(out.textures.size());
+            texture_index[written] = m.diffuse_texture;
+            out.textures.push_back(std::move(t));
+          }
+          out.inputs_read.push_back(std::filesystem::absolute(p));  // a changed file re-bakes either way
         }
       }
     }

@@ -339,7 +339,7 @@ TEST(Cli, OutputsNeverOverwriteInputs) {
   const std::string mtl = "newmtl M\nKd 1 0 0\nmap_Kd tex.png\n";
   write_file(dir / "m.obj", obj);
   write_file(dir / "m.h", mtl);  // the material library, named like the generated header
-  write_file(dir / "tex.png", "PNG");
+  write_file(dir / "tex.png", read_file(fixture("checker.png")));
   fs::create_symlink(dir / "m.obj", dir / "link.d");
   const auto before = snapshot(dir);
   auto check = [&](const std::vector<std::string>& args, const std::string& output, const std::string& input) {

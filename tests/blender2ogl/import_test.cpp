@@ -182,12 +182,41 @@ TEST(Import, TextureNextToAMtlInASubfolder) {
   const auto dir = scratch("import_subfolder");
   write_file(dir / "m.obj", "mtllib looks/m.mtl\no Sheet\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl P\nf 1 2 3\n");
   write_file(dir / "looks" / "m.mtl", "newmtl P\nKd 1 1 1\nmap_Kd tex.png\n");
-  write_file(dir / "looks" / "tex.png", "not decoded, just bytes");
+  const std::string png = read_file(fixture("checker.png"));
+  write_file(dir / "looks" / "tex.png", png);
   const auto s = b2o::conv::import_scene(dir / "m.obj", false);
   ASSERT_EQ(s.textures.size(), 1u);
-  EXPECT_EQ(std::string(s.textures[0].bytes.begin(), s.textures[0].bytes.end()), "not decoded, just bytes");
+  EXPECT_EQ(std::string(s.textures[0].bytes.begin(), s.textures[0].bytes.end()), png);  // the file's bytes
   EXPECT_EQ(s.materials[0].diffuse_texture, 0);
   EXPECT_TRUE(s.warnings.empty());
+}
+
+// A texture the viewer could not decode (no image, a truncated PNG, a format stb does not
+// read) stops the bake naming the file; with --allow-missing the material has no texture
+// and a warning says why.
+TEST(Import, UndecodableTextureIsAnErrorOrWithAllowMissingAWarning) {
+  const auto dir = scratch("import_bad_texture");
+  write_file(dir / "m.obj", "mtllib m.mtl\no Sheet\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl P\nf 1 2 3\n");
+  write_file(dir / "m.mtl", "newmtl P\nKd 1 1 1\nmap_Kd tex.png\n");
+  const std::string png = read_file(fixture("checker.png"));
+  for (const std::string& bytes : {std::string("not an image"), png.substr(0, png.size() / 2),
+                                   std::string("II*\0\x08\0\0\0", 8) /* a TIFF header */}) {
+    write_file(dir / "tex.png", bytes);
+    try {
+      (void)b2o::conv::import_scene(dir / "m.obj", false);
+      ADD_FAILURE() << "no error for " << bytes.size() << " bytes";
+    } catch (const b2o::conv::InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("tex.png: texture 'tex.png' of material 'P' cannot be decoded"), std::string::npos) << what;
+      EXPECT_NE(what.find("--allow-missing"), std::string::npos) << what;
+    }
+    const auto s = b2o::conv::import_scene(dir / "m.obj", false, /*allow_missing=*/true);
+    EXPECT_TRUE(s.textures.empty());
+    ASSERT_EQ(s.materials.size(), 1u);
+    EXPECT_EQ(s.materials[0].diffuse_texture, -1);
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_NE(s.warnings[0].find("the material gets no texture"), std::string::npos) << s.warnings[0];
+  }
 }
 
 
