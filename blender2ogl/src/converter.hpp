@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -128,6 +129,15 @@ inline double lap_ms(std::chrono::steady_clock::time_point& t0) {
 
 /// The assimp post-processing flags the converter uses (tests read with the same ones).
 unsigned import_flags();
+
+/// Triangulates one polygon: `xyz` holds its corners' positions (x y z per corner, in face
+/// order); appends (corners - 2) triangles of corner numbers (0 = the first corner) to
+/// `triangles`, wound as the polygon. Projected along its (Newell) normal; a quad is a fan
+/// from its reflex corner, else from corner 0 (as assimp); more corners are cut into ears
+/// (strictly convex, no other corner in or on them), for a convex polygon exactly as assimp
+/// 5.2 does. False when no ear was left (a self-intersecting or degenerate polygon): the
+/// rest is then a fan.
+bool triangulate_polygon(std::span<const float> xyz, std::vector<std::uint32_t>& triangles);
 
 /// Reads the model with assimp into a Scene (geometry, objects, materials, textures).
 /// A missing or unreadable .mtl or texture is an InputError unless `allow_missing`
