@@ -14,7 +14,6 @@
 #include <string>
 
 #include <assimp/Importer.hpp>
-#include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
 #include "converter.hpp"
@@ -95,11 +94,10 @@ std::uintmax_t bin_bytes(const fs::path& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Reference mode: only assimp reading the model, with the converter's flags.
+  // Reference mode: only assimp reading the model, as the converter reads it.
   if (argc == 3 && std::string(argv[1]) == "--assimp-only") {
     Assimp::Importer importer;
-    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-    return importer.ReadFile(argv[2], b2o::conv::import_flags()) != nullptr ? 0 : 1;
+    return b2o::conv::read_with_assimp(importer, argv[2]) != nullptr ? 0 : 1;
   }
   long triangles = 1000000;
   fs::path work = fs::temp_directory_path() / "b2o_bake_speed";

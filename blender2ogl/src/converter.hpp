@@ -9,10 +9,17 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
+
+namespace Assimp {
+class Importer;
+}
+struct aiNode;
+struct aiScene;
 
 namespace b2o::conv {
 
@@ -126,8 +133,24 @@ inline double lap_ms(std::chrono::steady_clock::time_point& t0) {
   return ms;
 }
 
-/// The assimp post-processing flags the converter uses (tests read with the same ones).
-unsigned import_flags();
+/// Triangulates one polygon: `xyz` holds its corners' positions (x y z per corner, in face
+/// order); appends (corners - 2) triangles of corner numbers (0 = the first corner) to
+/// `triangles`, wound as the polygon. Projected along its (Newell) normal; a quad is a fan
+/// from its reflex corner, else from corner 0 (as assimp); more corners are cut into ears
+/// (strictly convex, no other corner in or on them), for a convex polygon exactly as assimp
+/// 5.2 does. False when no ear was left (a self-intersecting or degenerate polygon): the
+/// rest is then a fan.
+bool triangulate_polygon(std::span<const float> xyz, std::vector<std::uint32_t>& triangles);
+
+/// Faces that were not simple polygons (triangulate_polygon returned false), per node.
+using NotSimpleFaces = std::map<const aiNode*, std::size_t>;
+
+/// Reads `file` with assimp as the converter does (the tests and benchmarks read through this
+/// too): the importer alone (ValidateDataStructure), faces with more than 3 corners
+/// triangulated by triangulate_polygon (not aiProcess_Triangulate), then GenSmoothNormals |
+/// SortByPType (points and lines removed) | ValidateDataStructure. Null when assimp fails
+/// (importer.GetErrorString() says why). The scene belongs to `importer`.
+const aiScene* read_with_assimp(Assimp::Importer& importer, const std::string& file, NotSimpleFaces* not_simple = nullptr);
 
 /// Reads the model with assimp into a Scene (geometry, objects, materials, textures).
 /// A missing or unreadable .mtl or texture is an InputError unless `allow_missing`

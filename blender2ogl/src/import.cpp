@@ -14,6 +14,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -169,11 +170,109 @@ void remove_pin_helpers(Scene& s) {
 
 }  // namespace
 
-unsigned import_flags() {
-  // JoinIdenticalVertices is done exactly by the importer below. Not SplitLargeMeshes / PreTransformVertices / OptimizeMeshes / OptimizeGraph: they split
-  // big cloths, move vertices or merge objects.
-  return aiProcess_Triangulate | aiProcess_GenSmoothNormals |
-         aiProcess_SortByPType | aiProcess_ValidateDataStructure;
+namespace {
+
+// aiProcess_Triangulate marks its output NGON-encoded (aiPrimitiveType_NGONEncodingFlag):
+// consecutive triangles with one first corner belong to one polygon, so a triangle whose
+// first corner is the previous polygon's is rotated. The same here, so the corners come in
+// assimp's order (and the output is unchanged where the triangles are).
+struct NgonEncoder {
+  unsigned last = std::numeric_limits<unsigned>::max();
+  void triangle(unsigned* t) {
+    if (t[0] == last) std::swap(t[0], t[2]), std::swap(t[1], t[2]);
+    last = t[0];
+  }
+  void quad(unsigned* t1, unsigned* t2) {  // a fan of two: t1[0] == t2[0]
+    if (t1[0] == last) {
+      std::swap(t1[0], t1[2]), std::swap(t1[1], t1[2]);
+      std::swap(t2[1], t2[2]), std::swap(t2[0], t2[2]);
+    }
+    last = t1[0];
+  }
+};
+
+// Faces with more than 3 corners become triangles (triangulate_polygon), in place, as
+// aiProcess_Triangulate would leave the mesh. Returns how many faces were not simple.
+std::size_t triangulate_mesh(aiMesh& mesh) {
+  std::size_t faces_out = 0;
+  bool polygons = false;
+  for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+    const unsigned n = mesh.mFaces[f].mNumIndices;
+    polygons = polygons || n > 3;
+    faces_out += n > 3 ? n - 2 : 1;
+  }
+  if (!polygons) return 0;
+  std::unique_ptr<aiFace[]> out(new aiFace[faces_out]);
+  aiFace* cur = out.get();
+  NgonEncoder encoder;
+  std::size_t not_simple = 0;
+  std::vector<float> xyz;
+  std::vector<std::uint32_t> tris;
+  for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+    aiFace& face = mesh.mFaces[f];
+    const unsigned n = face.mNumIndices;
+    if (n <= 3) {
+      cur->mNumIndices = n;
+      cur->mIndices = face.mIndices;
+      face.mIndices = nullptr;
+      if (n == 3) encoder.triangle(cur->mIndices);
+      ++cur;
+      continue;
+    }
+    xyz.resize(3 * static_cast<std::size_t>(n));
+    for (unsigned c = 0; c < n; ++c) {
+      // (ValidateDataStructure has refused indices out of range; kept safe anyway)
+      const aiVector3D p = face.mIndices[c] < mesh.mNumVertices ? mesh.mVertices[face.mIndices[c]] : aiVector3D();
+      xyz[3 * c] = p.x, xyz[3 * c + 1] = p.y, xyz[3 * c + 2] = p.z;
+    }
+    tris.clear();
+    if (!triangulate_polygon(xyz, tris)) ++not_simple;
+    aiFace* const first = cur;
+    for (std::size_t t = 0; t < tris.size(); t += 3, ++cur) {
+      cur->mNumIndices = 3;
+      cur->mIndices = new unsigned[3];
+      for (std::size_t c = 0; c < 3; ++c) cur->mIndices[c] = face.mIndices[tris[t + c]];
+    }
+    if (n == 4)
+      encoder.quad(first[0].mIndices, first[1].mIndices);
+    else
+      for (aiFace* t = first; t != cur; ++t) encoder.triangle(t->mIndices);
+  }
+  delete[] mesh.mFaces;
+  mesh.mNumFaces = static_cast<unsigned>(cur - out.get());
+  mesh.mFaces = out.release();
+  mesh.mPrimitiveTypes = (mesh.mPrimitiveTypes & ~static_cast<unsigned>(aiPrimitiveType_POLYGON)) |
+                         aiPrimitiveType_TRIANGLE | aiPrimitiveType_NGONEncodingFlag;
+  return not_simple;
+}
+
+}  // namespace
+
+const aiScene* read_with_assimp(Assimp::Importer& importer, const std::string& file, NotSimpleFaces* not_simple) {
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  const aiScene* read = importer.ReadFile(file, aiProcess_ValidateDataStructure);
+  if (read == nullptr) return nullptr;
+  // (the scene is the importer's; assimp's own steps change it in place just so)
+  auto* scene = const_cast<aiScene*>(read);
+  std::vector<std::size_t> per_mesh(scene->mNumMeshes, 0);
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m)
+    if (scene->mMeshes[m] != nullptr) per_mesh[m] = triangulate_mesh(*scene->mMeshes[m]);
+  // per node: SortByPType renumbers the meshes, the nodes stay
+  if (not_simple != nullptr) {
+    std::function<void(const aiNode*)> walk = [&](const aiNode* node) {
+      std::size_t count = 0;
+      for (unsigned k = 0; k < node->mNumMeshes; ++k)
+        if (node->mMeshes[k] < per_mesh.size()) count += per_mesh[node->mMeshes[k]];
+      if (count > 0) (*not_simple)[node] += count;
+      for (unsigned i = 0; i < node->mNumChildren; ++i) walk(node->mChildren[i]);
+    };
+    if (scene->mRootNode != nullptr) walk(scene->mRootNode);
+  }
+  // JoinIdenticalVertices is done exactly by import_scene. Not SplitLargeMeshes /
+  // PreTransformVertices / OptimizeMeshes / OptimizeGraph: they split big cloths, move
+  // vertices or merge objects.
+  return importer.ApplyPostProcessing(aiProcess_GenSmoothNormals | aiProcess_SortByPType |
+                                      aiProcess_ValidateDataStructure);
 }
 
 Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_missing) {
@@ -262,11 +361,11 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
 
   Assimp::Importer importer;
   importer.SetIOHandler(new CheckedIO(std::move(replaced)));
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* ai = nullptr;
+  NotSimpleFaces not_simple;
   {
     AssimpErrors errors;
-    ai = importer.ReadFile(file.string(), import_flags());
+    ai = read_with_assimp(importer, file.string(), &not_simple);
     if (ai == nullptr) {
       std::string why = importer.GetErrorString();
       while (!why.empty() && (why.back() == '\n' || why.back() == '\r')) why.pop_back();
@@ -377,7 +476,10 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
   walk(ai->mRootNode, aiMatrix4x4());
 
   const std::uint64_t limit = std::numeric_limits<std::uint32_t>::max() / 4;
+  std::vector<std::size_t> objects_not_simple;  // per out.objects: faces triangulated as a fan
   for (const auto& [node, transform] : nodes) {
+    const auto not_simple_here = not_simple.find(node);
+    const std::size_t fans = not_simple_here == not_simple.end() ? 0 : not_simple_here->second;
     Object obj;
     obj.name = node->mName.C_Str();
     // (the pre-scan gave assimp OBJ names encoded, spaces and all: see encode_object_name)
@@ -533,10 +635,19 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
       prev.vertex_count += obj.vertex_count;
       prev.index_count += obj.index_count;
       prev.submesh_count += obj.submesh_count;
+      objects_not_simple.back() += fans;
       continue;
     }
     out.objects.push_back(std::move(obj));
+    objects_not_simple.push_back(fans);
   }
+  for (std::size_t i = 0; i < out.objects.size(); ++i)
+    if (objects_not_simple[i] > 0)
+      out.warnings.push_back(file.string() + ": object " + quote_input(out.objects[i].name) + ": " +
+                             std::to_string(objects_not_simple[i]) +
+                             (objects_not_simple[i] == 1 ? " face is not a simple polygon"
+                                                         : " faces are not simple polygons") +
+                             " (self-intersecting?); triangulated as a fan");
   out.timings_ms.emplace_back("join", lap_ms(t0));
   importer.FreeScene();  // before the bake: big scenes need the memory
   if (out.objects.empty()) throw InputError(file.string() + ": no triangles (empty scene)");

@@ -115,8 +115,7 @@ TEST(Import, EveryCornerBitExactToAssimp) {
   for (const char* name : {"grid.obj", "ngons_crlf.obj", "odd_names.obj", "plain.obj"}) {
     const auto s = import_scene(fixture(name), false, /*allow_missing=*/true);  // plain.obj's .mtl is missing
     Assimp::Importer imp;
-    imp.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-    const aiScene* ai = imp.ReadFile(fixture(name).string(), b2o::conv::import_flags());
+    const aiScene* ai = b2o::conv::read_with_assimp(imp, fixture(name).string());
     ASSERT_NE(ai, nullptr);
     std::size_t k = 0;  // running index into s.indices
     std::function<void(const aiNode*)> walk = [&](const aiNode* n) {
@@ -150,6 +149,76 @@ TEST(Import, EveryCornerBitExactToAssimp) {
       EXPECT_EQ(seen.size(), o.vertex_count) << name << " " << o.name;
     }
   }
+}
+
+// The L of the report (its reflex corner on a diagonal): assimp's own triangulation made 4
+// triangles of area 4, two facing down; the converter's covers the L once, facing up.
+TEST(Import, ConcaveLFaceIsTriangulatedCorrectly) {
+  const auto s = import_scene(fixture("lshape.obj"), false);
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+  ASSERT_EQ(s.objects.size(), 1u);
+  ASSERT_EQ(s.indices.size(), 3u * 4u);
+  double area = 0.0;
+  for (std::size_t t = 0; t < s.indices.size(); t += 3) {
+    const float* a = &s.positions[3 * s.indices[t]];
+    const float* b = &s.positions[3 * s.indices[t + 1]];
+    const float* c = &s.positions[3 * s.indices[t + 2]];
+    // (b - a) x (c - a), y component: all in the y = 0 plane
+    const double up = (double(c[0]) - a[0]) * (double(b[2]) - a[2]) - (double(b[0]) - a[0]) * (double(c[2]) - a[2]);
+    EXPECT_GT(up, 0.0) << "triangle " << t / 3 << " faces down or has no area";
+    area += 0.5 * std::fabs(up);
+  }
+  EXPECT_DOUBLE_EQ(area, 3.0);
+  for (std::size_t v = 0; v < s.normals.size(); v += 3) EXPECT_EQ(s.normals[v + 1], 1.0f) << "normal " << v / 3;
+}
+
+// A self-intersecting face gets triangles for all its corners (a fan) and one warning per
+// object, naming the file and the object.
+TEST(Import, BowTieFacesWarnOncePerObject) {
+  const auto s = import_scene(fixture("bowtie.obj"), false);
+  ASSERT_EQ(s.objects.size(), 2u);
+  EXPECT_EQ(s.objects[0].index_count, 3u * (4u + 3u));
+  EXPECT_EQ(s.objects[1].index_count, 6u);
+  // (the fans' triangles without area also leave normals to compute: another warning)
+  std::vector<std::string> fans;
+  for (const std::string& w : s.warnings)
+    if (w.find("simple polygon") != std::string::npos) fans.push_back(w);
+  ASSERT_EQ(fans.size(), 1u);
+  const std::string& w = fans[0];
+  EXPECT_EQ(w.rfind(fixture("bowtie.obj").string() + ": ", 0), 0u) << w;
+  EXPECT_NE(w.find("object 'Bowtie'"), std::string::npos) << w;
+  EXPECT_NE(w.find("2 faces are not simple polygons"), std::string::npos) << w;
+  EXPECT_EQ(w.find("Square"), std::string::npos) << w;
+}
+
+// Convex polygons, quads (convex and concave) and triangles: face for face and corner for
+// corner what assimp's own aiProcess_Triangulate gives (with its NGON encoding's rotations),
+// so the converter's output for them is what it was.
+TEST(Import, ConvexPolygonsAsAssimp) {
+  Assimp::Importer mine, theirs;
+  const std::string file = fixture("convex_ngons.obj").string();
+  const aiScene* a = b2o::conv::read_with_assimp(mine, file);
+  theirs.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  const aiScene* b = theirs.ReadFile(file, aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_SortByPType |
+                                               aiProcess_ValidateDataStructure);
+  ASSERT_NE(a, nullptr);
+  ASSERT_NE(b, nullptr);
+  ASSERT_EQ(a->mNumMeshes, b->mNumMeshes);
+  std::size_t faces = 0;
+  for (unsigned m = 0; m < a->mNumMeshes; ++m) {
+    const aiMesh& x = *a->mMeshes[m];
+    const aiMesh& y = *b->mMeshes[m];
+    EXPECT_EQ(x.mPrimitiveTypes, y.mPrimitiveTypes);
+    ASSERT_EQ(x.mNumVertices, y.mNumVertices);
+    EXPECT_EQ(std::memcmp(x.mNormals, y.mNormals, sizeof(aiVector3D) * x.mNumVertices), 0);
+    ASSERT_EQ(x.mNumFaces, y.mNumFaces);
+    for (unsigned f = 0; f < x.mNumFaces; ++f, ++faces) {
+      ASSERT_EQ(x.mFaces[f].mNumIndices, 3u);
+      ASSERT_EQ(y.mFaces[f].mNumIndices, 3u);
+      for (unsigned c = 0; c < 3; ++c) EXPECT_EQ(x.mFaces[f].mIndices[c], y.mFaces[f].mIndices[c]) << "face " << f;
+    }
+  }
+  EXPECT_EQ(faces, 182u);
 }
 
 TEST(Identifiers, OddNamesGiveValidDistinctStableIdentifiers) {
