@@ -32,12 +32,21 @@ int main(int argc, char** argv) {
   app.add_option("--dt", dt, "step size (default: the scene's)");
   app.add_option("--k-struct", k_struct, "structural stiffness (default: the scene's)");
   app.add_option("--name", name, "scene name (the window title starts with 'clothsim NAME')");
+  bool bad_texture = false;
+  app.add_flag("--bad-texture", bad_texture, "give the floor a texture whose bytes are no image");
   app.footer(clothsim::viewer_help_text());
   CLI11_PARSE(app, argc, argv);
   vo.vsync = !no_vsync;
   try {
     clothsim::testing::HandScene hand(12, 1.6f, 1.2f, pin);
     hand.scene.name = name.c_str();
+    static const unsigned char junk[] = "not an image";
+    const b2o::Texture texture{"junk.png", junk, sizeof junk};
+    if (bad_texture) {
+      hand.materials.back().diffuse_texture = 0;
+      hand.scene.textures = &texture;
+      hand.scene.texture_count = 1;
+    }
     clothsim::Options options = clothsim::scene_options(hand.scene);
     if (dt > 0.0) options.dt = dt;
     if (k_struct > 0.0) options.k_struct = k_struct;

@@ -150,6 +150,19 @@ TEST(ViewerProbe, LitPictureHasShadingAndHideClothRemovesTheCloth) {
   EXPECT_GT(fraction_different(l, h), 0.02) << "the cloth made no difference to the picture";
 }
 
+// A texture the viewer cannot decode (a scene not made by the bake, which refuses one) is a
+// warning naming it, and the material is drawn without it: the picture is still made.
+TEST(ViewerProbe, UndecodableTextureIsAWarningNotAFailure) {
+  const fs::path shot = out("probe_bad_texture.png");
+  const Result r = run(q(g_probe) + " --width 320 --height 180 --seconds 0.2 --bad-texture --screenshot " + q(shot));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("texture 'junk.png' cannot be decoded"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("drawn without it"), std::string::npos) << r.output;
+  const Image img = load(shot);
+  ASSERT_TRUE(img.ok());
+  EXPECT_GT(colour_count(img), 25u);
+}
+
 TEST(ViewerProbe, FramesWritesTheWholeSequence) {
   const fs::path dir = out("probe_frames");
   const Result r = run(q(g_probe) + " --width 160 --height 90 --flat-cloth --frames " + q(dir) +

@@ -9,6 +9,7 @@
 #include <stb/stb_image.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -154,9 +155,11 @@ GLuint program(const char* vs, const char* fs, const char* what) {
 GLuint load_texture(const b2o::Texture& t, const char* scene_name) {
   int w = 0, h = 0, channels = 0;
   stbi_uc* pixels = stbi_load_from_memory(t.bytes, static_cast<int>(t.size), &w, &h, &channels, 4);
-  if (!pixels)
-    throw std::runtime_error(std::string("scene '") + scene_name + "': texture '" +
-                             (t.name ? t.name : "?") + "' cannot be decoded: " + stbi_failure_reason());
+  if (!pixels) {  // (the bake decodes every texture it writes; a scene made otherwise may not)
+    std::fprintf(stderr, "clothsim: warning: scene '%s': texture '%s' cannot be decoded (%s); drawn without it\n",
+                 scene_name, t.name ? t.name : "?", stbi_failure_reason());
+    return 0;
+  }
   // Images are stored top row first; GL and OBJ texture coordinates start at the bottom.
   const std::size_t row = static_cast<std::size_t>(w) * 4;
   std::vector<unsigned char> flipped(row * static_cast<std::size_t>(h));
@@ -415,7 +418,8 @@ void GlScene::draw(const b2o::Scene& scene, const Model& model, const Eigen::Mat
       glUniform3fv(mu_.kd, 1, m.diffuse);
       glUniform3fv(mu_.ks, 1, m.specular);
       glUniform1f(mu_.ns, m.shininess);
-      const bool tex = m.diffuse_texture >= 0 && static_cast<std::size_t>(m.diffuse_texture) < textures_.size();
+      const bool tex = m.diffuse_texture >= 0 && static_cast<std::size_t>(m.diffuse_texture) < textures_.size() &&
+                       textures_[static_cast<std::size_t>(m.diffuse_texture)] != 0;
       glUniform1i(mu_.has_tex, tex ? 1 : 0);
       if (tex) glBindTexture(GL_TEXTURE_2D, textures_[static_cast<std::size_t>(m.diffuse_texture)]);
     } else {  // no material: a neutral grey
