@@ -1,6 +1,7 @@
 // A light check of .obj text before assimp reads it. assimp's OBJ importer accepts binary
 // garbage, truncated lines and out-of-range indices silently (or crashes); this pass only
 // tokenizes lines to give a clear message with a line number. It builds no geometry.
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <cmath>
@@ -49,6 +50,17 @@ bool parse_number(std::string_view t, double& value) {
       value = std::numeric_limits<double>::infinity();
   }
   return true;
+}
+
+// The most corners of a face assimp reads (AI_MAX_FACE_INDICES).
+constexpr std::size_t kMaxFaceCorners = 0x7fff;
+
+// The OBJ statements of freeform curves and surfaces (the spec's "free-form geometry").
+bool is_freeform(std::string_view key) {
+  for (std::string_view k : {"cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole",
+                             "scrv", "sp", "end", "con"})
+    if (key == k) return true;
+  return false;
 }
 
 bool parse_int(std::string_view t, long long& value) {
@@ -109,6 +121,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   bool in_pin_object = false;
   std::string joined;
   std::vector<std::string_view> tok;
+  std::size_t freeform = 0, freeform_line = 0;  // freeform statements cut, the first one's line
   while (!rest.empty()) {
     ++line_no;
     const std::size_t start_line = line_no;
@@ -226,6 +239,10 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     } else if (key == "f" || key == "fo" || key == "l" || key == "p") {
       const bool face = key == "f" || key == "fo";
       const std::size_t need = face ? 3 : 1;
+      // assimp refuses larger faces without naming the line ("Face 0 has too many faces")
+      if (face && tok.size() - 1 > kMaxFaceCorners)
+        fail(file, start_line, "a face with " + std::to_string(tok.size() - 1) + " corners (at most " +
+                                   std::to_string(kMaxFaceCorners) + ")");
       if (tok.size() - 1 < need)
         fail(file, start_line, quote_input(key) + " needs at least " + std::to_string(need) +
                                    " vertices, found " + std::to_string(tok.size() - 1));
@@ -239,7 +256,8 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
           const std::size_t count = part == 0 ? scan.positions : part == 1 ? scan.texcoords : scan.normals;
           if (!(field.empty() && part > 0)) {
             long long idx = 0;
-            if (!parse_int(field, idx) || idx == 0)
+            // ('+3' is no index for assimp: it read `f 1 2 +3` as four corners)
+            if (field[0] == '+' || !parse_int(field, idx) || idx == 0)
               fail(file, start_line, "malformed vertex reference " + quote_input(ref));
             const long long n = static_cast<long long>(count);
             if (idx > n || idx < -n)
@@ -333,6 +351,16 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       const std::size_t a = name.find_first_not_of(" \t\r\f\v"), b = name.find_last_not_of(" \t\r\f\v");
       name = a == std::string::npos ? std::string() : name.substr(a, b - a + 1);
       if (!name.empty()) scan.usemtl.emplace_back(name, start_line);
+    } else if (is_freeform(key)) {
+      // Freeform geometry (Blender's "Curves as NURBS"): assimp does not read it, and misread
+      // what follows (a face after `cstype` was lost, `curv` failed without a line). It has
+      // no faces to draw: assimp gets the line blank (its line breaks kept), with one warning.
+      const std::size_t at = static_cast<std::size_t>(line.data() - text.data());
+      const std::size_t to = rest.empty() ? text.size() : static_cast<std::size_t>(rest.data() - text.data()) - 1;
+      cuts.push_back({at, to - at, std::string(static_cast<std::size_t>(std::count(text.begin() + static_cast<std::ptrdiff_t>(at),
+                                                                                   text.begin() + static_cast<std::ptrdiff_t>(to), '\n')),
+                                               '\n')});
+      if (freeform++ == 0) freeform_line = start_line;
     } else if (key == "mtllib") {
       // A name may hold spaces; assimp takes the rest of the line.
       const std::string_view body = body_all.substr(0, end);
@@ -343,6 +371,11 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       scan.mtllib_lines.push_back(start_line);
     }
   }
+  if (freeform > 0)
+    scan.warnings.push_back(file.string() + ":" + std::to_string(freeform_line) + ": " + std::to_string(freeform) +
+                            " freeform curve/surface statement" + (freeform == 1 ? "" : "s") +
+                            " (cstype, curv, surf, ...) ignored: only faces are drawn (Blender: export with "
+                            "'Curves as NURBS' off, or convert the curve to a mesh)");
   if (!cuts.empty()) {
     scan.cleaned = true;
     scan.clean_text.reserve(text.size());

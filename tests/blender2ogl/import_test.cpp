@@ -289,6 +289,45 @@ TEST(Import, UndecodableTextureIsAnErrorOrWithAllowMissingAWarning) {
 }
 
 
+// Freeform curves and surfaces (Blender's "Curves as NURBS") have nothing to draw: their
+// statements are left out with one warning at the first one's line, and the faces around them
+// are all read (assimp lost a face after `cstype` and failed on `curv` without a line).
+TEST(Import, FreeformStatementsAreIgnoredWithOneWarning) {
+  const auto dir = scratch("import_freeform");
+  write_file(dir / "m.obj",
+             "o Cloth\nv 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nf 1 2 3\n"
+             "cstype bspline\ndeg 3\ncurv 0 1 1 2 \\\n  3 4\nparm u 0 0 0 0 1 1 1 1\nend\nf 1 3 4\n");
+  const auto s = b2o::conv::import_scene(dir / "m.obj", false);
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0].index_count, 6u);  // both faces
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("m.obj:7: 5 freeform curve/surface statements"), std::string::npos) << s.warnings[0];
+}
+
+// Faces assimp would misread or refuse without a line: a '+' index (read as a 4th corner) and
+// more than 32767 corners.
+TEST(Import, PlusIndexAndHugeFaceAreRefusedAtTheirLine) {
+  const auto dir = scratch("import_face_limits");
+  write_file(dir / "plus.obj", "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 +3\n");
+  std::string big = "o Cloth\n", face = "f";
+  for (int k = 0; k < 32768; ++k) {
+    const double a = 6.283185307179586 * k / 32768.0;
+    big += "v " + std::to_string(std::cos(a)) + " 0 " + std::to_string(std::sin(a)) + "\n";
+    face += " " + std::to_string(k + 1);
+  }
+  write_file(dir / "big.obj", big + face + "\n");
+  const std::pair<const char*, const char*> cases[] = {{"plus.obj", "plus.obj:5: malformed vertex reference '+3'"},
+                                                       {"big.obj", "big.obj:32770: a face with 32768 corners (at most 32767)"}};
+  for (const auto& [name, want] : cases) {
+    try {
+      (void)b2o::conv::import_scene(dir / name, false);
+      ADD_FAILURE() << name << ": no error";
+    } catch (const b2o::conv::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what();
+    }
+  }
+}
+
 // A UTF-8 byte-order mark at the start of the .obj or the .mtl is no part of the first
 // statement: `o Cloth` keeps its name, `mtllib` its materials, `newmtl` its material
 // (assimp is given the text without it).
