@@ -99,6 +99,7 @@ b2o::conv::Options parse(int argc, char** argv, bool& done) {
       return o;
     } else if (arg == "-t" || arg == "--target") {
       o.target_dir = need("-t");
+      if (o.target_dir.empty()) throw UsageError("-t: the folder name is empty (leave -t out to write next to the model)");
     } else if (arg == "-s" || arg == "--separate") {
       o.combined = false;
     } else if (arg == "-c" || arg == "--combined") {

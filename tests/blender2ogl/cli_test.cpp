@@ -56,6 +56,7 @@ TEST(Cli, UsageErrorsExitTwo) {
                                              {"-t"},
                                              {"a.obj", "b.obj"},
                                              {"-p", "Cloth", fixture("grid.obj").string()},
+                                             {"-t", "", fixture("grid.obj").string()},
                                              {"-p", "Cloth:1,2", fixture("grid.obj").string()},
                                              {"--param", "dt", fixture("grid.obj").string()},
                                              {"--param", "dt=x", fixture("grid.obj").string()},
