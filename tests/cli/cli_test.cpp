@@ -108,7 +108,9 @@ TEST(Cli, BadValuesExitTwoWithAMessageAndWriteNothing) {
                {"--mass 0", "mass"},        {"--k-struct -5", "k_struct"}, {"--damping inf", "damping"},
                {"--dt abc", "--dt"},        {"--bogus", "bogus"},     {"--seconds 1 --steps 5", "steps"},
                {"--seconds -2", "seconds"}, {"-step 0", "dt"},   {"--threads abc", "--threads"},
-               {"--threads -1", "--threads"}, {"--threads 1025", "--threads"}, {"--threads Auto", "auto"}};
+               {"--threads -1", "--threads"}, {"--threads 1025", "--threads"}, {"--threads Auto", "auto"},
+               {"--gravity ''", "--gravity: needs a number"}, {"--dt ''", "--dt: needs a number"},
+               {"--dt 0x10", "--dt: takes a decimal number"}};
   for (const Case& c : cases) {
     const Result r = run(std::string("--headless --report '") + report + "' " + c.args);
     EXPECT_EQ(r.code, 2) << c.args << ": " << r.output;
