@@ -8,6 +8,8 @@
 #include <map>
 #include <unordered_map>
 
+#include <blender2ogl/solid_parts.hpp>
+
 #include "converter.hpp"
 #include "prescan.hpp"
 
@@ -206,88 +208,25 @@ Cloth build_cloth(Scene& s, std::uint32_t object_index, bool reverse, Stats& sta
 // inside. A closed part with an edge used twice in the same direction has faces pointing
 // both ways: warned too. Vertices are welded by exact position (split normals and UVs).
 void check_collider_orientation(Scene& s, const Object& o, const std::string& file) {
-  std::unordered_map<Key, std::uint32_t, KeyHash> weld;
-  std::vector<const float*> point;
-  std::vector<std::uint32_t> vid(o.vertex_count);
-  for (std::uint32_t v = 0; v < o.vertex_count; ++v) {
-    const float* p = &s.positions[3 * (o.first_vertex + v)];
-    auto [it, added] = weld.try_emplace(Key{bits(p[0]), bits(p[1]), bits(p[2])}, static_cast<std::uint32_t>(point.size()));
-    if (added) point.push_back(p);
-    vid[v] = it->second;
+  std::vector<double> corners;  // the object's triangles, 9 numbers each (exact: float to double)
+  corners.reserve(3 * static_cast<std::size_t>(o.index_count));
+  for (std::uint32_t i = o.first_index; i < o.first_index + o.index_count; ++i) {
+    const float* p = &s.positions[3 * static_cast<std::size_t>(s.indices[i])];
+    corners.insert(corners.end(), {double(p[0]), double(p[1]), double(p[2])});
   }
-  // connected parts (union-find over welded vertices)
-  std::vector<std::uint32_t> parent(point.size());
-  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-  auto root = [&](std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  struct Directed {
-    std::uint64_t key;  // (min << 32) | max
-    bool forward;       // a < b as the triangle runs
-  };
-  std::vector<Directed> edges;
-  std::vector<std::array<std::uint32_t, 3>> tris;
-  for (std::uint32_t i = o.first_index; i + 2 < o.first_index + o.index_count; i += 3) {
-    const std::array<std::uint32_t, 3> t = {vid[s.indices[i] - o.first_vertex], vid[s.indices[i + 1] - o.first_vertex],
-                                            vid[s.indices[i + 2] - o.first_vertex]};
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;  // no edge of a closed surface
-    tris.push_back(t);
-    for (int e = 0; e < 3; ++e) {
-      const std::uint64_t a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
-      edges.push_back({(std::min(a, b) << 32) | std::max(a, b), a < b});
-      parent[root(static_cast<std::uint32_t>(a))] = root(static_cast<std::uint32_t>(b));
-    }
-  }
-  std::sort(edges.begin(), edges.end(), [](const Directed& x, const Directed& y) { return x.key < y.key; });
-  // per part: open (an edge not of exactly two triangles), same-direction edges, volume
-  std::map<std::uint32_t, std::size_t> part_index;
-  struct Part {
-    bool open = false;
-    std::size_t same_direction = 0;
-    double volume = 0.0, size = 0.0;
-  };
-  std::vector<Part> parts;
-  auto part_of = [&](std::uint32_t vertex) -> Part& {
-    auto [it, added] = part_index.try_emplace(root(vertex), parts.size());
-    if (added) parts.emplace_back();
-    return parts[it->second];
-  };
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j].key == edges[i].key) ++j;
-    Part& part = part_of(static_cast<std::uint32_t>(edges[i].key >> 32));
-    if (j - i != 2)
-      part.open = true;
-    else if (edges[i].forward == edges[i + 1].forward)
-      ++part.same_direction;
-    i = j;
-  }
-  for (const auto& t : tris) {
-    const float *a = point[t[0]], *b = point[t[1]], *c = point[t[2]];
-    // (relative to the first vertex: the same volume for a closed surface, less rounding)
-    const float* o0 = point[0];
-    const double p[3] = {double(a[0]) - o0[0], double(a[1]) - o0[1], double(a[2]) - o0[2]};
-    const double q[3] = {double(b[0]) - o0[0], double(b[1]) - o0[1], double(b[2]) - o0[2]};
-    const double r[3] = {double(c[0]) - o0[0], double(c[1]) - o0[1], double(c[2]) - o0[2]};
-    Part& part = part_of(t[0]);
-    part.volume += (p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0]) +
-                    p[2] * (q[0] * r[1] - q[1] * r[0])) / 6.0;
-    for (int k = 0; k < 3; ++k)
-      part.size = std::max({part.size, std::fabs(p[k]), std::fabs(q[k]), std::fabs(r[k])});
-  }
+  const std::vector<b2o::SolidPart> parts = b2o::solid_parts(corners.data(), o.index_count / 3);
   std::string where = file;
   if (auto it = s.object_lines.find(o.name); it != s.object_lines.end() && !it->second.empty())
     where += ":" + std::to_string(it->second.front());
   const std::string fix = "; fix it in Blender: Edit Mode, select all, Mesh > Normals > Recalculate Outside";
   std::size_t inconsistent = 0, inward = 0, closed = 0;
   double volume = 0.0;
-  for (const Part& part : parts) {
-    if (part.open) continue;
+  for (const b2o::SolidPart& part : parts) {
+    if (!part.closed) continue;
     ++closed;
-    if (part.same_direction > 0) {
+    if (part.inconsistent()) {
       inconsistent += part.same_direction;
-    } else if (part.volume < -1e-9 * part.size * part.size * part.size) {
+    } else if (part.inward()) {
       ++inward;
       volume += part.volume;
     }

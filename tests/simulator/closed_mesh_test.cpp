@@ -137,6 +137,32 @@ TEST(ColliderWarnings, InwardFacesAreNamedWithTheVolume) {
   EXPECT_NE(w[1].find("3 of 4 masses start inside collider 'Box'"), std::string::npos) << w[1];
 }
 
+// Part by part, as the bake: a small inside-out box inside a large outward one (the sum of the
+// volumes is positive: the whole-mesh check missed it), and a box with one face flipped (not a
+// consistent solid: the whole-mesh check called it open and said nothing).
+TEST(ColliderWarnings, PartsAreCheckedOneByOne) {
+  auto set = std::make_shared<ColliderSet>();
+  Eigen::Matrix3Xd v(3, 16);
+  v << cube_vertices(4.0, {-2, -2, -2}), cube_vertices(1.0, {-0.5, -0.5, -0.5});
+  std::vector<std::uint32_t> idx = kCube, small = flipped(kCube);
+  for (std::uint32_t& k : small) k += 8;
+  idx.insert(idx.end(), small.begin(), small.end());
+  set->add_object("Nested", v, idx);
+  std::vector<std::uint32_t> mixed = kCube;
+  std::swap(mixed[1], mixed[2]);
+  set->add_object("Mixed", cube_vertices(1.0, {10, 0, 0}), mixed);
+  set->build();
+  Model m;
+  m.x0 = Eigen::Matrix3Xd::Constant(3, 2, 30.0);  // nothing inside
+  m.colliders = set;
+  const std::vector<std::string> w = collider_warnings(m);
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_NE(w[0].find("collider 'Nested' faces point inwards (signed volume -1 m^3 in 1 of its 2 parts)"),
+            std::string::npos) << w[0];
+  EXPECT_NE(w[1].find("collider 'Mixed' is closed with faces pointing both ways (3 edges used twice the same way)"),
+            std::string::npos) << w[1];
+}
+
 TEST(ColliderWarnings, NoneForACleanSceneOrWithoutColliders) {
   Model m = model_with(kCube);
   m.x0.setConstant(3.0);  // every mass outside

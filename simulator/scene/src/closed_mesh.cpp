@@ -2,43 +2,34 @@
 
 #include <clothsim/collision.hpp>
 
+#include <blender2ogl/solid_parts.hpp>
+
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <map>
 #include <numbers>
-#include <utility>
 
 namespace clothsim {
 
-SolidInfo analyse_solid(const TriangleCorners& corners) {
+namespace {
+
+std::vector<b2o::SolidPart> parts_of(const TriangleCorners& corners) {
+  return b2o::solid_parts(corners.data(), static_cast<std::size_t>(corners.cols() / 3));
+}
+
+SolidInfo solid_of(const std::vector<b2o::SolidPart>& parts) {
   SolidInfo info;
-  const Eigen::Index tris = corners.cols() / 3;
-  // Weld corners by exact position (an export may split vertices at UV seams).
-  std::map<std::array<double, 3>, std::uint32_t> ids;
-  auto id = [&ids](const Eigen::Vector3d& p) {
-    const auto [it, added] = ids.try_emplace({p.x(), p.y(), p.z()}, static_cast<std::uint32_t>(ids.size()));
-    return it->second;
-  };
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;  // (from, to) -> count
-  bool any = false;
-  for (Eigen::Index t = 0; t < tris; ++t) {
-    const Eigen::Vector3d a = corners.col(3 * t), b = corners.col(3 * t + 1), c = corners.col(3 * t + 2);
-    info.signed_volume += a.dot(b.cross(c)) / 6.0;
-    const std::uint32_t v[3] = {id(a), id(b), id(c)};
-    if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;
-    any = true;
-    for (int k = 0; k < 3; ++k) ++directed[{v[k], v[(k + 1) % 3]}];
-  }
-  info.closed = any && std::all_of(directed.begin(), directed.end(), [&directed](const auto& e) {
-                  if (e.second != 1) return false;
-                  const auto back = directed.find({e.first.second, e.first.first});
-                  return back != directed.end() && back->second == 1;
+  info.closed = !parts.empty() && std::all_of(parts.begin(), parts.end(), [](const b2o::SolidPart& p) {
+                  return p.closed && p.same_direction == 0;
                 });
+  for (const b2o::SolidPart& p : parts) info.signed_volume += p.volume;
   return info;
 }
+
+}  // namespace
+
+SolidInfo analyse_solid(const TriangleCorners& corners) { return solid_of(parts_of(corners)); }
 
 double winding_number(const TriangleCorners& corners, const Eigen::Vector3d& p) {
   double sum = 0.0;
@@ -83,15 +74,33 @@ std::vector<std::string> collider_warnings(const Model& model, double work_budge
       corners.col(k + 1) = b;
       corners.col(k + 2) = c;
     }
-    const SolidInfo solid = analyse_solid(corners);
-    if (!solid.closed) continue;
+    // Per connected part, as the bake checks (b2o::solid_parts): a part whose faces point
+    // inwards, or both ways, pushes the cloth into it.
+    const std::vector<b2o::SolidPart> parts = parts_of(corners);
     const std::string name = "'" + set.object_name(o) + "'";
-    char num[64];
-    if (solid.signed_volume < 0.0) {
-      std::snprintf(num, sizeof num, "%.3g", solid.signed_volume);
-      out.push_back("warning: collider " + name + " faces point inwards (signed volume " + num +
-                    " m^3): the cloth will be pushed into it; fix the export (Blender: Recalculate Outside)");
+    double inward = 0.0;
+    std::size_t inward_parts = 0, inconsistent = 0;
+    for (const b2o::SolidPart& p : parts) {
+      if (p.inward()) inward += p.volume, ++inward_parts;
+      if (p.inconsistent()) inconsistent += p.same_direction;
     }
+    char num[64];
+    if (inward_parts > 0) {
+      std::snprintf(num, sizeof num, "%.3g", inward);
+      out.push_back("warning: collider " + name + " faces point inwards (signed volume " + num + " m^3" +
+                    (parts.size() > 1 ? " in " + std::to_string(inward_parts) + " of its " + std::to_string(parts.size()) +
+                                            " parts"
+                                      : std::string()) +
+                    "): the cloth will be pushed into it; fix the export (Blender: Recalculate Outside)");
+    }
+    if (inconsistent > 0)
+      out.push_back("warning: collider " + name + " is closed with faces pointing both ways (" +
+                    std::to_string(inconsistent) +
+                    " edges used twice the same way): the cloth is pushed into it where they point inwards; fix "
+                    "the export (Blender: Recalculate Outside)");
+    // Masses inside: only for a collider every part of which is a closed, consistent solid
+    // (an open mesh has no inside).
+    if (!solid_of(parts).closed) continue;
     const std::int64_t inside = count_inside(corners, model.x0, work_budget);
     if (inside > 0)
       out.push_back("warning: " + std::to_string(inside) + " of " + std::to_string(model.mass_count()) +

@@ -24,10 +24,12 @@ struct SolidInfo {
   /// (corners are identified by exact position; triangles with two equal corners are ignored).
   /// False for an empty mesh.
   bool closed = false;
-  /// m^3, sum over the triangles of A . (B x C) / 6: the enclosed volume when closed, positive
-  /// when the faces point outwards, negative when they point inwards.
+  /// m^3, sum over the triangles of A . (B x C) / 6 about the first corner: the enclosed volume
+  /// when closed, positive when the faces point outwards, negative when they point inwards.
   double signed_volume = 0.0;
 };
+/// The whole mesh as one solid, from b2o::solid_parts() (blender2ogl/solid_parts.hpp: the
+/// check the bake makes, part by part; collider_warnings() reports its parts).
 SolidInfo analyse_solid(const TriangleCorners& corners);
 
 /// Generalised winding number of the triangles around p (van Oosterom-Strackee solid angles
@@ -44,8 +46,9 @@ inline constexpr double kInsideWorkBudget = 4e7;
 /// times triangles, would exceed `work_budget`.
 std::int64_t count_inside(const TriangleCorners& corners, const Eigen::Matrix3Xd& points,
                           double work_budget = kInsideWorkBudget);
-/// The start-up warnings about a model's colliders, one line each, "warning: ...": for every
-/// collider object that is a closed mesh, faces pointing inwards (negative signed volume) and
+/// The start-up warnings about a model's colliders, one line each, "warning: ...": per
+/// collider object, closed parts whose faces point inwards (negative signed volume) or both
+/// ways (b2o::solid_parts(), as the bake warns), and, for an object that is a closed solid,
 /// the cloth masses (at x0) that start inside it (skipped silently above the work budget).
 /// Empty without colliders.
 std::vector<std::string> collider_warnings(const Model& model, double work_budget = kInsideWorkBudget);
