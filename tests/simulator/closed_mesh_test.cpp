@@ -163,6 +163,39 @@ TEST(ColliderWarnings, PartsAreCheckedOneByOne) {
             std::string::npos) << w[1];
 }
 
+// An open collider pushes only towards its front: masses that start behind a face (their foot
+// on it) are named, within the band (shot out at once) and farther (pulled through on contact:
+// a floor whose normals point down). Masses in front, or beside the plane's edge, are not.
+TEST(ColliderWarnings, MassesBehindAnOpenColliderAreNamed) {
+  auto floor_model = [](bool normals_up, const std::vector<Eigen::Vector3d>& masses) {
+    auto set = std::make_shared<ColliderSet>();
+    Eigen::Matrix3Xd v(3, 4);
+    v << -1, 1, 1, -1, 0, 0, 0, 0, -1, -1, 1, 1;
+    set->add_object("Floor", v, normals_up ? std::vector<std::uint32_t>{0, 2, 1, 0, 3, 2}
+                                           : std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3});
+    set->build();
+    Model m;
+    m.x0.resize(3, static_cast<Eigen::Index>(masses.size()));
+    for (std::size_t i = 0; i < masses.size(); ++i) m.x0.col(static_cast<Eigen::Index>(i)) = masses[i];
+    m.options.epsilon = 0.1;
+    m.colliders = set;
+    return m;
+  };
+  // above an upward floor, and below its level but beside its edge: nothing
+  EXPECT_TRUE(collider_warnings(floor_model(true, {{0, 0.5, 0}, {0.2, 0.05, 0.1}, {1.5, -0.05, 0}})).empty());
+  // just under an upward floor: within the band
+  std::vector<std::string> w = collider_warnings(floor_model(true, {{0, -0.05, 0}, {0.3, -0.15, 0}, {0, 0.5, 0}}));
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("2 of 3 masses start behind collider 'Floor' within its contact band (0.2 m)"), std::string::npos)
+      << w[0];
+  // above a floor whose normals point down: behind it, farther than the band
+  w = collider_warnings(floor_model(false, {{0, 0.6, 0}, {0.5, 0.6, 0.5}}));
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("2 of 2 masses start behind collider 'Floor' (on the side its normals point away from)"),
+            std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("Flip"), std::string::npos) << w[0];
+}
+
 TEST(ColliderWarnings, NoneForACleanSceneOrWithoutColliders) {
   Model m = model_with(kCube);
   m.x0.setConstant(3.0);  // every mass outside

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <string>
 #include <numbers>
+#include <vector>
 
 namespace clothsim {
 
@@ -59,6 +60,30 @@ std::int64_t count_inside(const TriangleCorners& corners, const Eigen::Matrix3Xd
   return n;
 }
 
+BehindCount count_behind(const ColliderSet& set, std::size_t o, const Eigen::Matrix3Xd& points, double eps) {
+  BehindCount out;
+  if (!set.built() || o >= set.object_count() || set.triangle_count(o) == 0 || !(eps > 0.0)) return out;
+  // within the cloth's size of the collider (farther, contact is not in sight)
+  const Eigen::Vector3d lo = points.rowwise().minCoeff(), hi = points.rowwise().maxCoeff();
+  const double radius = std::max(2.0 * eps, (hi - lo).norm());
+  std::vector<ColliderHit> hits(set.object_count());
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    const Eigen::Vector3d p = points.col(i);
+    if (!p.allFinite() || set.query(p, radius, hits) == 0 || !hits[o].valid()) continue;
+    Eigen::Vector3d a, b, c;
+    set.triangle(o, static_cast<std::size_t>(hits[o].triangle), a, b, c);
+    const PointTriangle pt = point_triangle(p, a, b, c);
+    if (pt.degenerate || !(pt.signed_distance < 0.0)) continue;
+    // the foot of p on the plane on the triangle (its face or an edge): behind it, not beside
+    // the collider's rim below its level
+    const Eigen::Vector3d foot = p - pt.normal.dot(p - a) * pt.normal;
+    if ((foot - pt.closest).norm() > 1e-9 * (1.0 + p.cwiseAbs().maxCoeff())) continue;
+    if (pt.signed_distance >= -2.0 * eps) ++out.in_band;
+    else ++out.farther;
+  }
+  return out;
+}
+
 std::vector<std::string> collider_warnings(const Model& model, double work_budget) {
   std::vector<std::string> out;
   if (!model.colliders) return out;
@@ -98,9 +123,28 @@ std::vector<std::string> collider_warnings(const Model& model, double work_budge
                     std::to_string(inconsistent) +
                     " edges used twice the same way): the cloth is pushed into it where they point inwards; fix "
                     "the export (Blender: Recalculate Outside)");
+    // An open collider (a floor, a plate) pushes only towards its front. Masses that start
+    // behind one of its faces (their foot on the face) are pulled through it on contact, or,
+    // within its band, shot out to its front at once (a floor whose normals point down, a
+    // cloth placed just under a floor).
+    if (!solid_of(parts).closed) {
+      const BehindCount b = count_behind(set, o, model.x0, model.options.epsilon);
+      char band[96];
+      std::snprintf(band, sizeof band, "%.3g m", 2.0 * model.options.epsilon);
+      if (b.in_band > 0)
+        out.push_back("warning: " + std::to_string(b.in_band) + " of " + std::to_string(model.mass_count()) +
+                      " masses start behind collider " + name + " within its contact band (" + band +
+                      "): its penalty force will push them through to its front side at once (move the cloth above it)");
+      if (b.farther > 0)
+        out.push_back("warning: " + std::to_string(b.farther) + " of " + std::to_string(model.mass_count()) +
+                      " masses start behind collider " + name +
+                      " (on the side its normals point away from): it pushes only towards its front, so on contact "
+                      "it pulls the cloth through; if its normals are flipped, fix the export (Blender: Mesh > "
+                      "Normals > Flip, or Recalculate Outside)");
+      continue;
+    }
     // Masses inside: only for a collider every part of which is a closed, consistent solid
     // (an open mesh has no inside).
-    if (!solid_of(parts).closed) continue;
     const std::int64_t inside = count_inside(corners, model.x0, work_budget);
     if (inside > 0)
       out.push_back("warning: " + std::to_string(inside) + " of " + std::to_string(model.mass_count()) +

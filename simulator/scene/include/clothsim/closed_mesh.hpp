@@ -5,6 +5,7 @@
 // warnings").
 #pragma once
 
+#include <clothsim/collision.hpp>
 #include <clothsim/sim.hpp>
 
 #include <Eigen/Core>
@@ -46,10 +47,19 @@ inline constexpr double kInsideWorkBudget = 4e7;
 /// times triangles, would exceed `work_budget`.
 std::int64_t count_inside(const TriangleCorners& corners, const Eigen::Matrix3Xd& points,
                           double work_budget = kInsideWorkBudget);
+/// Masses of `points` whose nearest triangle of open collider object o (within the points'
+/// bounding-box diagonal, at least 2 eps) has them behind it (the foot on the plane on the
+/// triangle, the signed distance < 0; not beside the collider's rim): `in_band` within 2 eps of it, `farther` beyond.
+struct BehindCount {
+  std::size_t in_band = 0, farther = 0;
+};
+BehindCount count_behind(const ColliderSet& set, std::size_t o, const Eigen::Matrix3Xd& points, double eps);
+
 /// The start-up warnings about a model's colliders, one line each, "warning: ...": per
 /// collider object, closed parts whose faces point inwards (negative signed volume) or both
 /// ways (b2o::solid_parts(), as the bake warns), and, for an object that is a closed solid,
-/// the cloth masses (at x0) that start inside it (skipped silently above the work budget).
+/// the cloth masses (at x0) that start inside it (skipped silently above the work budget);
+/// for an open collider, the masses that start behind its faces (count_behind()).
 /// Empty without colliders.
 std::vector<std::string> collider_warnings(const Model& model, double work_budget = kInsideWorkBudget);
 
