@@ -136,10 +136,12 @@ inline double lap_ms(std::chrono::steady_clock::time_point& t0) {
 /// Triangulates one polygon: `xyz` holds its corners' positions (x y z per corner, in face
 /// order); appends (corners - 2) triangles of corner numbers (0 = the first corner) to
 /// `triangles`, wound as the polygon. Projected along its (Newell) normal; a quad is a fan
-/// from its reflex corner, else from corner 0 (as assimp); more corners are cut into ears
+/// from its reflex corner, else from corner 0 (as assimp for a planar quad; a non-planar one may
+/// differ, the reflex corner being found in the projection); more corners are cut into ears
 /// (strictly convex, no other corner in or on them), for a convex polygon exactly as assimp
-/// 5.2 does. False when no ear was left (a self-intersecting or degenerate polygon): the
-/// rest is then a fan.
+/// 5.2 does. False when no ear was left (a self-intersecting or degenerate polygon), when a
+/// quad is a bow-tie, or when the ear search ran past its budget (a face of thousands of
+/// corners in a thin ring): the rest is then a fan.
 bool triangulate_polygon(std::span<const float> xyz, std::vector<std::uint32_t>& triangles);
 
 /// Faces that were not simple polygons (triangulate_polygon returned false), per node.

@@ -647,7 +647,7 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
                              std::to_string(objects_not_simple[i]) +
                              (objects_not_simple[i] == 1 ? " face is not a simple polygon"
                                                          : " faces are not simple polygons") +
-                             " (self-intersecting?); triangulated as a fan");
+                             " (self-intersecting, or too many corners to cut into ears); triangulated as a fan");
   out.timings_ms.emplace_back("join", lap_ms(t0));
   importer.FreeScene();  // before the bake: big scenes need the memory
   if (out.objects.empty()) throw InputError(file.string() + ": no triangles (empty scene)");

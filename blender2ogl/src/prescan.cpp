@@ -257,7 +257,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
           if (!(field.empty() && part > 0)) {
             long long idx = 0;
             // ('+3' is no index for assimp: it read `f 1 2 +3` as four corners)
-            if (field[0] == '+' || !parse_int(field, idx) || idx == 0)
+            if ((!field.empty() && field[0] == '+') || !parse_int(field, idx) || idx == 0)
               fail(file, start_line, "malformed vertex reference " + quote_input(ref));
             const long long n = static_cast<long long>(count);
             if (idx > n || idx < -n)

@@ -60,13 +60,11 @@ bool triangulate_polygon(std::span<const float> xyz, std::vector<std::uint32_t>&
     // assimp's rule: a fan from the reflex corner (a simple quad has at most one), else from
     // corner 0.
     std::uint32_t s = 0;
-    for (std::uint32_t i = 0; i < 4; ++i)
-      if (orient(p[(i + 3) % 4], p[i], p[(i + 1) % 4]) < 0.0) {
-        s = i;
-        break;
-      }
+    int reflex = 0;
+    for (std::uint32_t i = 4; i-- > 0;)
+      if (orient(p[(i + 3) % 4], p[i], p[(i + 1) % 4]) < 0.0) s = i, ++reflex;
     triangles.insert(triangles.end(), {s, (s + 1) % 4, (s + 2) % 4, s, (s + 2) % 4, (s + 3) % 4});
-    return true;
+    return reflex < 2;  // two reflex corners: a bow-tie (a simple quad has at most one)
   }
 
   // Ear clipping in assimp 5.2's order: the first candidate is corner 0 (its predecessor
@@ -87,9 +85,14 @@ bool triangulate_polygon(std::span<const float> xyz, std::vector<std::uint32_t>&
   for (std::uint32_t i = 0; i < n; ++i)
     if (!convex(i)) concave.push_back(i), listed[i] = 1;
 
+  // Corner tests spent: an adversarial face (a thin ring of thousands of corners) makes the
+  // search cubic; past ~1 s of tests it stops and the rest becomes a fan, reported.
+  constexpr std::size_t kBudget = 200'000'000;
+  std::size_t work = 0;
   auto is_ear = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     const P2 &pa = p[a], &pb = p[b], &pc = p[c];
     if (!(orient(pa, pb, pc) > 0.0)) return false;
+    work += concave.size();
     for (std::size_t k = 0; k < concave.size();) {
       const std::uint32_t r = concave[k];
       if (done[r] || convex(r)) {  // cut, or convex now: drop from the list
@@ -111,6 +114,10 @@ bool triangulate_polygon(std::span<const float> xyz, std::vector<std::uint32_t>&
   std::uint32_t before = static_cast<std::uint32_t>(n - 1), ear = 0;
   while (remaining > 3) {
     const std::uint32_t after = next[ear];
+    if (work > kBudget) {
+      simple = false;
+      break;
+    }
     if (!is_ear(before, ear, after)) {
       if (++failures >= remaining) {  // every remaining corner tried: no ear
         simple = false;

@@ -309,6 +309,7 @@ TEST(Import, FreeformStatementsAreIgnoredWithOneWarning) {
 TEST(Import, PlusIndexAndHugeFaceAreRefusedAtTheirLine) {
   const auto dir = scratch("import_face_limits");
   write_file(dir / "plus.obj", "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 +3\n");
+  write_file(dir / "slash.obj", "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf /1 2 3\n");  // an empty index field
   std::string big = "o Cloth\n", face = "f";
   for (int k = 0; k < 32768; ++k) {
     const double a = 6.283185307179586 * k / 32768.0;
@@ -317,6 +318,7 @@ TEST(Import, PlusIndexAndHugeFaceAreRefusedAtTheirLine) {
   }
   write_file(dir / "big.obj", big + face + "\n");
   const std::pair<const char*, const char*> cases[] = {{"plus.obj", "plus.obj:5: malformed vertex reference '+3'"},
+                                                       {"slash.obj", "slash.obj:5: malformed vertex reference '/1'"},
                                                        {"big.obj", "big.obj:32770: a face with 32768 corners (at most 32767)"}};
   for (const auto& [name, want] : cases) {
     try {

@@ -258,4 +258,32 @@ TEST(Triangulate, LargeComb) {
   for (double gap : {0.5, 1998.5, 3998.5}) EXPECT_FALSE(covered(pts, r.tris, gap, 2.0, 0, 1)) << "gap at x = " << gap;
 }
 
+// A face that makes the ear search cubic (a thin half ring of 8 000 corners, thinner than its
+// sagitta: every candidate ear holds a corner of the other side) stops at the search's budget
+// (about a second) and is reported, instead of running for minutes (25 s for this one).
+TEST(Triangulate, ThinRingStopsAtTheBudgetAndIsReported) {
+  std::vector<std::array<float, 2>> ring;
+  const int half = 4000;
+  for (int k = 0; k < half; ++k) {
+    const double a = 3.141592653589793 * k / (half - 1);
+    ring.push_back({static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a))});
+  }
+  for (int k = half - 1; k >= 0; --k) {
+    const double a = 3.141592653589793 * k / (half - 1);
+    const double r = 1.0 - 2e-7;
+    ring.push_back({static_cast<float>(r * std::cos(a)), static_cast<float>(r * std::sin(a))});
+  }
+  const Result r = triangulate(xy(ring));
+  EXPECT_FALSE(r.simple);
+  EXPECT_EQ(r.tris.size(), 3u * (2u * half - 2u));  // every corner still in a triangle
+}
+
+// A quad whose two triangles cross (a bow-tie) is reported, and gets assimp's fan.
+TEST(Triangulate, BowTieQuadIsReported) {
+  const Result r = triangulate(xy({{0, 0}, {1, 1}, {1, 0}, {0, 1}}));
+  EXPECT_FALSE(r.simple);
+  EXPECT_EQ(r.tris.size(), 6u);
+  EXPECT_TRUE(triangulate(xy({{0, 0}, {1, 0}, {1, 1}, {0, 1}})).simple);
+}
+
 }  // namespace
