@@ -36,6 +36,20 @@ TEST(AppParams, ABakedValueOutOfRangeIsNamedAsTheScenes) {
   EXPECT_EQ(err.find("baked into scene"), std::string::npos) << err;
   // and a good one overrides the scene's
   EXPECT_EQ(run(hand.scene, {"--headless", "--quiet", "--steps", "2", "--dt", "0.001"}, err), 0) << err;
+  // the user's own value, equal to the scene's bad one: the user's
+  EXPECT_EQ(run(hand.scene, {"--headless", "--quiet", "--steps", "2", "--dt", "-1"}, err), 2);
+  EXPECT_EQ(err.find("baked into scene"), std::string::npos) << err;
+}
+
+TEST(AppParams, TheFailingValueIsTheOneNamed) {
+  clothsim::testing::HandScene hand(6);
+  const b2o::Param params[] = {{"dt", -1.0}, {"mass", 0.0}};
+  hand.scene.params = params;
+  hand.scene.param_count = 2;
+  std::string err;
+  // dt given and good: the scene's mass is what fails, and it is named as the scene's
+  EXPECT_EQ(run(hand.scene, {"--headless", "--quiet", "--steps", "2", "--dt", "0.001"}, err), 2);
+  EXPECT_NE(err.find("mass must be a finite number > 0 (got 0), baked into scene"), std::string::npos) << err;
 }
 
 }  // namespace

@@ -287,7 +287,8 @@ TEST(Cli, SecondsAreCoveredByWholeSteps) {
     bool note;
   } cases[] = {{"--seconds 0.5 --dt 1.5", 1, true},  {"--seconds 0.4 --dt 0.3", 2, true},
                {"--seconds 0.3 --dt 0.1", 3, false}, {"--seconds 1 --dt 0.0004", 2500, false},
-               {"--seconds 0 --dt 0.01", 0, false},  {"--seconds 0.011 --dt 0.01", 2, true}};
+               {"--seconds 0 --dt 0.01", 0, false},  {"--seconds 0.011 --dt 0.01", 2, true},
+               {"--seconds 20.0000001 --dt 0.0004", 50001, true}};
   for (const Case& c : cases) {
     const fs::path report = d / "r.json";
     const Result r = run(std::string("--headless --report ") + q(report) + " " + c.args);

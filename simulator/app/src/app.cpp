@@ -103,8 +103,10 @@ std::string fmt_percent(double fraction) {
 // rounding: 20 s / 0.0004 s is 50000, not 50001), else rounded up, so that a run lasts at
 // least the time asked (--seconds 0.5 at --dt 1.5 is one step, not none). 0 s is 0 steps.
 double steps_covering(double seconds, double dt) {
+  // (seconds / dt is rounded once, by ~1e-16 of itself: 1e-12 of it is far beyond that and far
+  // below half a step for any count a run may take, 1e9)
   const double r = seconds / dt, nearest = std::round(r);
-  if (std::abs(r - nearest) <= 1e-9 * std::max(1.0, r)) return seconds > 0.0 ? std::max(nearest, 1.0) : nearest;
+  if (std::abs(r - nearest) <= 1e-12 * std::max(1.0, r)) return seconds > 0.0 ? std::max(nearest, 1.0) : nearest;
   return std::ceil(r);
 }
 
@@ -339,8 +341,19 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     return bad_input(e.what());
   }
   if (const std::string why = validate_options(opts); !why.empty()) {
-    // A value the scene bakes (PARAMS in generated/CMakeLists.txt), not one the user gave: say so.
-    if (validate_options(scene_opts) == why)
+    // A value the scene bakes (PARAMS in generated/CMakeLists.txt), not one the user gave: say
+    // so. It is the scene's when the same check fails with the user's values set to the
+    // built-in defaults (which pass).
+    Options baked = opts;
+    if (o_dt->count()) baked.dt = defaults.dt;
+    if (o_mass->count()) baked.mass = defaults.mass;
+    if (o_ks->count()) baked.k_struct = defaults.k_struct;
+    if (o_kb->count()) baked.k_bend = defaults.k_bend;
+    if (o_damp->count()) baked.damping = defaults.damping;
+    if (o_g->count()) baked.gravity = defaults.gravity;
+    if (o_eps->count()) baked.epsilon = defaults.epsilon;
+    if (o_krep->count()) baked.k_rep = defaults.k_rep;
+    if (validate_options(baked) == why)
       return bad_input(why + ", baked into scene '" + scene.name +
                        "' (its PARAMS in generated/CMakeLists.txt); give the option on the command line to override it");
     return bad_input(why);
@@ -476,7 +489,9 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     vo.fps = fps;
     vo.substeps = plan.substeps;
     vo.auto_threads = chooser.has_value();
-    if (o_seconds->count()) vo.seconds = seconds;
+    // the time of the whole steps that cover --seconds, as a headless run takes (the viewer
+    // rounds its own count to the nearest step)
+    if (o_seconds->count()) vo.seconds = steps_covering(seconds, opts.dt) * opts.dt;
     else if (o_steps->count()) vo.seconds = static_cast<double>(steps) * opts.dt;
     return run_viewer(scene, model, vo);
   }
@@ -487,10 +502,10 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   const std::uint64_t total =
       o_steps->count() ? steps : static_cast<std::uint64_t>(steps_covering(seconds, opts.dt));
   if (!o_steps->count() && !quiet && static_cast<double>(total) * opts.dt != seconds &&
-      std::abs(static_cast<double>(total) * opts.dt - seconds) > 1e-9 * seconds)
-    std::cerr << "clothsim: note: --seconds " << fmt(seconds) << " is not a whole number of steps of --dt "
-              << fmt(opts.dt) << ": " << total << " step" << (total == 1 ? "" : "s") << " (" << fmt(static_cast<double>(total) * opts.dt)
-              << " s)\n";
+      std::abs(static_cast<double>(total) * opts.dt - seconds) > 1e-12 * seconds)
+    std::cerr << "clothsim: note: " << (o_seconds->count() ? "--seconds " + fmt(seconds) : "the default " + fmt(seconds) + " s")
+              << " is not a whole number of steps of " << (o_dt->count() ? "--dt " : "dt ") << fmt(opts.dt) << ": "
+              << total << " step" << (total == 1 ? "" : "s") << " (" << fmt(static_cast<double>(total) * opts.dt) << " s)\n";
 
   const fs::path export_path = export_dir;
   if (o_export->count()) {
