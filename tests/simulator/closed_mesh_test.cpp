@@ -137,30 +137,45 @@ TEST(ColliderWarnings, InwardFacesAreNamedWithTheVolume) {
   EXPECT_NE(w[1].find("3 of 4 masses start inside collider 'Box'"), std::string::npos) << w[1];
 }
 
-// Part by part, as the bake: a small inside-out box inside a large outward one (the sum of the
-// volumes is positive: the whole-mesh check missed it), and a box with one face flipped (not a
-// consistent solid: the whole-mesh check called it open and said nothing).
+// Part by part, as the bake: a small inside-out box beside a large outward one (the sum of the
+// volumes is positive: the whole-mesh check missed it), not when it is inside the large one
+// (a cavity: a hollow box's inner wall rightly faces into the hollow), and a box with one face
+// flipped (not a consistent solid: the whole-mesh check called it open and said nothing).
 TEST(ColliderWarnings, PartsAreCheckedOneByOne) {
   auto set = std::make_shared<ColliderSet>();
-  Eigen::Matrix3Xd v(3, 16);
-  v << cube_vertices(4.0, {-2, -2, -2}), cube_vertices(1.0, {-0.5, -0.5, -0.5});
-  std::vector<std::uint32_t> idx = kCube, small = flipped(kCube);
-  for (std::uint32_t& k : small) k += 8;
-  idx.insert(idx.end(), small.begin(), small.end());
-  set->add_object("Nested", v, idx);
+  auto pair_of_boxes = [](Eigen::Vector3d small_at) {
+    Eigen::Matrix3Xd v(3, 16);
+    v << cube_vertices(4.0, {-2, -2, -2}), cube_vertices(1.0, small_at);
+    std::vector<std::uint32_t> idx = kCube, small = flipped(kCube);
+    for (std::uint32_t& k : small) k += 8;
+    idx.insert(idx.end(), small.begin(), small.end());
+    return std::make_pair(v, idx);
+  };
+  const auto [beside, beside_idx] = pair_of_boxes({5, 0, 0});
+  set->add_object("Nested", beside, beside_idx);
+  const auto [hollow, hollow_idx] = pair_of_boxes({-0.5, -0.5, -0.5});
+  set->add_object("Hollow", hollow, hollow_idx);
   std::vector<std::uint32_t> mixed = kCube;
   std::swap(mixed[1], mixed[2]);
   set->add_object("Mixed", cube_vertices(1.0, {10, 0, 0}), mixed);
+  // -0.0 and +0.0 are one position: a cube with a -0.0 copy of a corner is still closed
+  Eigen::Matrix3Xd negzero(3, 9);
+  negzero << cube_vertices(1.0, {20, 0, 0}), Eigen::Vector3d(20, 0, -0.0);
+  negzero(2, 0) = 0.0;  // corner 0 is (20, 0, +0); corner 8 (20, 0, -0) replaces it in one face
+  std::vector<std::uint32_t> nz = flipped(kCube);
+  nz[0] = 8;
+  set->add_object("Signed zero", negzero, nz);
   set->build();
   Model m;
   m.x0 = Eigen::Matrix3Xd::Constant(3, 2, 30.0);  // nothing inside
   m.colliders = set;
   const std::vector<std::string> w = collider_warnings(m);
-  ASSERT_EQ(w.size(), 2u);
+  ASSERT_EQ(w.size(), 3u);
   EXPECT_NE(w[0].find("collider 'Nested' faces point inwards (signed volume -1 m^3 in 1 of its 2 parts)"),
             std::string::npos) << w[0];
   EXPECT_NE(w[1].find("collider 'Mixed' is closed with faces pointing both ways (3 edges used twice the same way)"),
             std::string::npos) << w[1];
+  EXPECT_NE(w[2].find("collider 'Signed zero' faces point inwards (signed volume -1 m^3)"), std::string::npos) << w[2];
 }
 
 // An open collider pushes only towards its front: masses that start behind a face (their foot

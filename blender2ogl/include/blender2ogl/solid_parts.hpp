@@ -23,8 +23,12 @@ struct SolidPart {
   std::size_t triangles = 0;
   double volume = 0.0;  ///< signed, sum of A.(B x C) / 6 about the mesh's first corner: > 0 outwards
   double size = 0.0;    ///< the largest |coordinate| about that corner (the scale for "zero")
-  /// Closed, every edge used once each way, and a volume below zero: its faces point inwards.
-  bool inward() const { return closed && same_direction == 0 && volume < -1e-9 * size * size * size; }
+  /// Inside another part of the mesh that is a closed, outward solid: a cavity (a hollow
+  /// ball's inner wall), whose faces rightly point into the hollow.
+  bool cavity = false;
+  /// Closed, every edge used once each way, a volume below zero and no cavity: its faces
+  /// point inwards.
+  bool inward() const { return closed && same_direction == 0 && !cavity && volume < -1e-9 * size * size * size; }
   /// Closed, but with faces pointing both ways (some edges used twice the same way).
   bool inconsistent() const { return closed && same_direction > 0; }
 };
@@ -46,7 +50,10 @@ inline std::vector<SolidPart> solid_parts(const double* corners, std::size_t tri
   std::vector<const double*> point;
   auto id = [&](const double* p) {
     Key k;
-    std::memcpy(k.data(), p, sizeof k);
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double v = p[c] + 0.0;  // -0.0 is the position +0.0
+      std::memcpy(&k[c], &v, sizeof v);
+    }
     const auto [it, added] = weld.try_emplace(k, static_cast<std::uint32_t>(point.size()));
     if (added) point.push_back(p);
     return it->second;
@@ -84,8 +91,11 @@ inline std::vector<SolidPart> solid_parts(const double* corners, std::size_t tri
   };
   // volumes about the first corner: the same for a closed surface, with less rounding
   const double* o = tris.empty() ? nullptr : point[tris.front()[0]];
+  std::vector<std::size_t> tri_part;  // each triangle's part
+  tri_part.reserve(tris.size());
   for (const auto& t : tris) {
     SolidPart& part = part_of(t[0]);
+    tri_part.push_back(static_cast<std::size_t>(&part - parts.data()));
     const double *a = point[t[0]], *b = point[t[1]], *c = point[t[2]];
     const double p[3] = {a[0] - o[0], a[1] - o[1], a[2] - o[2]};
     const double q[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
@@ -106,6 +116,43 @@ inline std::vector<SolidPart> solid_parts(const double* corners, std::size_t tri
     else if (edges[i].forward == edges[i + 1].forward)
       ++part.same_direction;
     i = j;
+  }
+  // Cavities: a part with its faces inwards whose first corner is inside a closed outward part
+  // (generalised winding number of that part's triangles > 1/2). Skipped (no part a cavity)
+  // when that would take more than ~1e7 triangle tests.
+  std::size_t outward_triangles = 0, inward_parts = 0;
+  for (const SolidPart& part : parts) {
+    const bool consistent = part.closed && part.same_direction == 0;
+    if (consistent && part.volume > 0.0) outward_triangles += part.triangles;
+    if (consistent && part.volume < 0.0) ++inward_parts;
+  }
+  if (inward_parts > 0 && outward_triangles * inward_parts <= 10'000'000) {
+    std::vector<const double*> first(parts.size(), nullptr);
+    for (std::size_t t = 0; t < tris.size(); ++t)
+      if (first[tri_part[t]] == nullptr) first[tri_part[t]] = point[tris[t][0]];
+    for (std::size_t q = 0; q < parts.size(); ++q) {
+      SolidPart& hole = parts[q];
+      if (!(hole.closed && hole.same_direction == 0 && hole.volume < 0.0)) continue;
+      std::vector<double> angle(parts.size(), 0.0);  // solid angle of each part seen from the corner
+      const double* x = first[q];
+      for (std::size_t t = 0; t < tris.size(); ++t) {
+        const SolidPart& other = parts[tri_part[t]];
+        if (tri_part[t] == q || !(other.closed && other.same_direction == 0 && other.volume > 0.0)) continue;
+        double a[3], b[3], c[3];
+        for (int k = 0; k < 3; ++k)
+          a[k] = point[tris[t][0]][k] - x[k], b[k] = point[tris[t][1]][k] - x[k], c[k] = point[tris[t][2]][k] - x[k];
+        const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        const double lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+        const double lc = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                           a[2] * (b[0] * c[1] - b[1] * c[0]);
+        const double den = la * lb * lc + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * lc +
+                           (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) * la + (c[0] * a[0] + c[1] * a[1] + c[2] * a[2]) * lb;
+        angle[tri_part[t]] += 2.0 * std::atan2(det, den);  // van Oosterom and Strackee
+      }
+      for (double w : angle)
+        if (w > 2.0 * 3.141592653589793) hole.cavity = true;  // winding number > 1/2
+    }
   }
   return parts;
 }
