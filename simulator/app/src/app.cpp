@@ -291,7 +291,11 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   row("--k-struct", defaults.k_struct, scene_opts.k_struct);
   row("--k-bend", defaults.k_bend, scene_opts.k_bend);
   row("--damping", defaults.damping, scene_opts.damping);
-  row("--gravity", -defaults.gravity.y(), -scene_opts.gravity.y());
+  if (scene_opts.gravity.x() != 0.0 || scene_opts.gravity.z() != 0.0)  // a vector: shown whole
+    foot << "  --gravity   " << fmt(-defaults.gravity.y()) << ' ' << scene_label << "the vector (" << fmt(scene_opts.gravity.x())
+         << ", " << fmt(scene_opts.gravity.y()) << ", " << fmt(scene_opts.gravity.z()) << ") m/s^2; --gravity G sets (0, -G, 0))\n";
+  else
+    row("--gravity", -defaults.gravity.y(), -scene_opts.gravity.y());
   row("--epsilon", defaults.epsilon, scene_opts.epsilon);
   row("--k-rep", defaults.k_rep, scene_opts.k_rep);
   foot << "The command line overrides the scene. Exit codes: 0 ok, 1 the run failed "
@@ -329,7 +333,13 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   if (o_ks->count()) opts.k_struct = k_struct;
   if (o_kb->count()) opts.k_bend = k_bend;
   if (o_damp->count()) opts.damping = damping;
-  if (o_g->count()) opts.gravity = Eigen::Vector3d(0.0, -gravity, 0.0);
+  if (o_g->count()) {
+    if (!quiet && (scene_opts.gravity.x() != 0.0 || scene_opts.gravity.z() != 0.0))
+      std::cerr << "clothsim: note: --gravity " << fmt(gravity) << " replaces the scene's gravity (" << fmt(scene_opts.gravity.x())
+                << ", " << fmt(scene_opts.gravity.y()) << ", " << fmt(scene_opts.gravity.z()) << ") by (0, " << fmt(-gravity)
+                << ", 0)\n";
+    opts.gravity = Eigen::Vector3d(0.0, -gravity, 0.0);
+  }
   if (o_eps->count()) opts.epsilon = epsilon;
   if (o_krep->count()) opts.k_rep = k_rep;
   if (const auto method = parse_integrator(integrator_name)) opts.integrator = *method;
