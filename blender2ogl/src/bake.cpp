@@ -39,6 +39,18 @@ double dist2(const float* a, const float* b) {
   return dx * dx + dy * dy + dz * dz;
 }
 
+// The squared diagonal of a cloth's rest bounding box (0 without masses).
+double diagonal2(const Cloth& c) {
+  if (c.rest_positions.size() < 3) return 0.0;
+  float lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) lo[k] = hi[k] = c.rest_positions[static_cast<std::size_t>(k)];
+  for (std::size_t m = 0; m < c.rest_positions.size(); ++m) {
+    lo[m % 3] = std::min(lo[m % 3], c.rest_positions[m]);
+    hi[m % 3] = std::max(hi[m % 3], c.rest_positions[m]);
+  }
+  return dist2(lo, hi);
+}
+
 std::uint32_t nearest_mass(const Cloth& c, const float* p, double& d2) {
   std::uint32_t best = 0;
   d2 = std::numeric_limits<double>::infinity();
@@ -306,13 +318,7 @@ void bake_scene(Scene& s, const Options& opt, Stats& stats) {
       continue;
     }
     if (c->mass_count() == 0) continue;
-    float lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) lo[k] = hi[k] = c->rest_positions[static_cast<std::size_t>(k)];
-    for (std::size_t m = 0; m < c->rest_positions.size(); ++m) {
-      lo[m % 3] = std::min(lo[m % 3], c->rest_positions[m]);
-      hi[m % 3] = std::max(hi[m % 3], c->rest_positions[m]);
-    }
-    const double diag2 = dist2(lo, hi);
+    const double diag2 = diagonal2(*c);
     for (std::size_t p = 0; p + 2 < pts.size(); p += 3) {
       double d2 = 0;
       const std::uint32_t m = nearest_mass(*c, &pts[p], d2);
@@ -329,7 +335,17 @@ void bake_scene(Scene& s, const Options& opt, Stats& stats) {
     Cloth* c = cloth_of(pin.object);
     if (c == nullptr) throw UsageError("-p " + pin.object + ": the object has no masses; give it -a " + pin.object);
     double d2 = 0;
-    if (c->mass_count() > 0) c->pins.push_back(nearest_mass(*c, pin.point.data(), d2));
+    if (c->mass_count() == 0) continue;
+    c->pins.push_back(nearest_mass(*c, pin.point.data(), d2));
+    // pinned anyway (a coordinate typed by hand is seldom on a mass), but a point a quarter of
+    // the cloth's size or more from every mass is likely a typo
+    if (d2 > 0.0625 * diagonal2(*c)) {
+      char at[96];
+      std::snprintf(at, sizeof at, "%g,%g,%g", double(pin.point[0]), double(pin.point[1]), double(pin.point[2]));
+      s.warnings.push_back(file + ": -p " + pin.object + ":" + at + " is " + std::to_string(std::sqrt(d2)) +
+                           " from the nearest mass of " + quote_input(pin.object) +
+                           " (more than a quarter of its size); that mass is pinned");
+    }
   }
   for (Cloth& c : s.cloths) {
     std::sort(c.pins.begin(), c.pins.end());

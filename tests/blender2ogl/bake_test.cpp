@@ -95,6 +95,19 @@ TEST(Bake, OldFileObjectFormAndCommandLinePins) {
   EXPECT_TRUE(found);
 }
 
+// A -p point far from the cloth (a typo: 20 for 2) still pins the nearest mass, with a warning;
+// one near a mass (typed by hand, not on it) without.
+TEST(Bake, CommandLinePinFarFromTheClothIsWarned) {
+  auto o = opts("grid.obj", {"Cloth"});
+  o.pins.push_back({"Cloth", {0.4f, 1.0f, 0.6f}});
+  EXPECT_TRUE(convert(o).warnings.empty());
+  o.pins.push_back({"Cloth", {0.5f, 20.0f, 0.5f}});
+  const auto s = convert(o);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("-p Cloth:0.5,20,0.5 is 19"), std::string::npos) << s.warnings[0];
+  EXPECT_NE(s.warnings[0].find("that mass is pinned"), std::string::npos) << s.warnings[0];
+}
+
 TEST(Bake, UnknownClothObjectIsAnInputError) {
   try {
     convert(opts("grid.obj", {"Nope"}));
