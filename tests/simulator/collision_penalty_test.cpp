@@ -252,3 +252,111 @@ TEST(CollisionPenalty, EmptySetGivesNoForce) {
   EXPECT_EQ(f, Eigen::Matrix3Xd::Zero(3, 3));
   EXPECT_EQ(s.contacts, 0u);
 }
+
+// Beyond an edge or a corner of a box (outside it) the push is along P - Q, Q the closest
+// point, with k_rep (eps - |P - Q|): the gradient of the distance, so the same whichever face
+// won the tie. (It was the lower-index face's normal: a cloth centred on a box drifted off the
+// side listed first, and off the other side with the faces in the other order.)
+// The unit cube [0, 1]^3, faces outwards.
+clothsim::meshes::Mesh unit_box() {
+  clothsim::meshes::Mesh m;
+  m.vertices.resize(3, 8);
+  for (int i = 0; i < 8; ++i) m.vertices.col(i) = Vector3d((i & 1) ? 1 : 0, (i & 2) ? 1 : 0, (i & 4) ? 1 : 0);
+  m.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+               2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+  return m;
+}
+
+TEST(CollisionPenalty, EdgeAndCornerPushIsAlongTheClosestPointWhateverTheFaceOrder) {
+  const auto box = unit_box();
+  std::vector<std::uint32_t> reversed;  // the same triangles, listed last to first
+  for (std::size_t t = box.indices.size(); t >= 3; t -= 3)
+    reversed.insert(reversed.end(), box.indices.begin() + static_cast<std::ptrdiff_t>(t - 3),
+                    box.indices.begin() + static_cast<std::ptrdiff_t>(t));
+  const double a = 0.03;
+  struct Case {
+    Vector3d p, q;
+  } cases[] = {{{1 + a, 1 + a, 0.5}, {1, 1, 0.5}},     // beyond the edge x = 1, y = 1
+               {{0.5, 1 + a, -a}, {0.5, 1, 0}},        // beyond the edge y = 1, z = 0
+               {{1 + a, 1 + a, 1 + a}, {1, 1, 1}}};    // beyond the corner (1, 1, 1)
+  for (const auto& indices : {box.indices, reversed}) {
+    ColliderSet set;
+    set.add_object("box", box.vertices, indices);
+    set.build();
+    for (const Case& c : cases) {
+      const Vector3d e = c.p - c.q;
+      const Vector3d want = kRep * (kEps - e.norm()) * e.normalized();
+      PenaltyStats s;
+      EXPECT_LT((force_at(set, c.p, &s) - want).norm(), 1e-9 * want.norm()) << c.p.transpose();
+      EXPECT_EQ(s.contacts, 1u);
+      // the cached path (a search, then a certified call) gives the same bits
+      Eigen::Matrix3Xd x(3, 1), f = Eigen::Matrix3Xd::Zero(3, 1);
+      x.col(0) = c.p;
+      clothsim::ContactCache cache;
+      cache.resize(1, set.object_count());
+      for (int call = 0; call < 3; ++call) {
+        f.setZero();
+        accumulate_penalty(set, x, kEps, kRep, f, s, cache);
+        EXPECT_EQ(Vector3d(f.col(0)), force_at(set, c.p)) << "call " << call << " at " << c.p.transpose();
+      }
+    }
+  }
+}
+
+// Beside the rim of an open plate, a point below its level is not behind it: it is pushed away
+// from the rim (it was pushed up by k_rep (eps + d), a force with no potential: a cloth draped
+// over a plate smaller than itself gained energy). Under the plate it is behind, as before.
+TEST(CollisionPenalty, BesideAnOpenRimThePushIsAwayFromTheRim) {
+  const ColliderSet set = floor_set();  // the plate [-2, 2]^2 at y = 0, facing up
+  const Vector3d beside(2.04, -0.03, 0.3), under(1.96, -0.03, 0.3);
+  const Vector3d e(0.04, -0.03, 0.0);
+  const Vector3d want = kRep * (kEps - e.norm()) * e.normalized();
+  EXPECT_LT((force_at(set, beside) - want).norm(), 1e-9 * want.norm()) << force_at(set, beside).transpose();
+  PenaltyStats s;
+  const Vector3d f = force_at(set, under, &s);
+  EXPECT_NEAR(f.y(), kRep * (kEps + 0.03), 1e-9);  // behind: up, k_rep (eps - d) with d = -0.03
+  EXPECT_NEAR(s.max_penetration, 0.03, 1e-12);
+  // in front of the rim, the force has a potential: no work around a loop that stays in front
+  // of the plane and beside the rim (a square in the x-y plane, 400 steps a side)
+  double work = 0.0;
+  const Vector3d corners[4] = {{2.01, 0.01, 0.3}, {2.08, 0.01, 0.3}, {2.08, 0.06, 0.3}, {2.01, 0.06, 0.3}};
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 400; ++i) {
+      const Vector3d a = corners[k] + (corners[(k + 1) % 4] - corners[k]) * (i / 400.0);
+      const Vector3d b = corners[k] + (corners[(k + 1) % 4] - corners[k]) * ((i + 1) / 400.0);
+      work += force_at(set, 0.5 * (a + b)).dot(b - a);
+    }
+  EXPECT_NEAR(work, 0.0, 1e-4);  // (the midpoint rule's error: ~1e-6; the face's push up gave ~-2 J)
+}
+
+// In a closed solid, a point sunk near a reflex edge (behind both faces, its closest point on
+// the edge) is still behind: pushed out along a face's normal, not along P - Q, which points
+// deeper in. (The L-shaped prism: (0,0), (2,0), (2,1), (1,1), (1,2), (0,2) in x-y, z in [0, 1];
+// the reflex edge at x = y = 1.)
+TEST(CollisionPenalty, InsideASolidNearAReflexEdgeThePushIsStillOutwards) {
+  const double xy[6][2] = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  Eigen::Matrix3Xd v(3, 12);
+  for (int k = 0; k < 6; ++k) {
+    v.col(k) = Vector3d(xy[k][0], xy[k][1], 0.0);
+    v.col(k + 6) = Vector3d(xy[k][0], xy[k][1], 1.0);
+  }
+  std::vector<std::uint32_t> idx;
+  for (std::uint32_t k = 1; k + 1 < 6; ++k) {  // the caps: fans from (0, 0), which sees every corner
+    idx.insert(idx.end(), {0u, k + 1, k});        // z = 0, facing -z
+    idx.insert(idx.end(), {6u, k + 6, k + 7});    // z = 1, facing +z
+  }
+  for (std::uint32_t k = 0; k < 6; ++k) {  // the sides, facing out (the outline runs counter-clockwise)
+    const std::uint32_t a = k, b = (k + 1) % 6;
+    idx.insert(idx.end(), {a, b, b + 6, a, b + 6, a + 6});
+  }
+  ColliderSet set;
+  set.add_object("L", v, idx);
+  set.build();
+  const Vector3d p(0.97, 0.97, 0.5);
+  const Vector3d f = force_at(set, p);
+  EXPECT_GT(f.dot(Vector3d(1, 1, 0)), 0.0) << f.transpose();  // out of the notch side, not in
+  EXPECT_GE(f.norm(), kRep * kEps) << f.transpose();          // behind: k_rep (eps - d), d < 0
+  // outside, beyond the solid's convex edge at (2, 1): along P - Q
+  const Vector3d q(2.03, 1.04, 0.5), e(0.03, 0.04, 0.0);
+  EXPECT_LT((force_at(set, q) - kRep * (kEps - e.norm()) * e.normalized()).norm(), 1e-9 * kRep) << force_at(set, q).transpose();
+}

@@ -1231,6 +1231,7 @@ void ColliderSet::compute_adjacency(std::size_t o) {
   for (std::size_t i = 0; i < halves.size();) {
     std::size_t j = i + 1;
     while (j < halves.size() && halves[j].lo == halves[i].lo && halves[j].hi == halves[i].hi) ++j;
+    if (j - i != 2) objects_[o].open = true;  // a rim (or a non-manifold edge)
     if (j - i == 2 && halves[i].slot != halves[i + 1].slot) {
       adj_[3 * halves[i].slot + halves[i].edge] = static_cast<std::int32_t>(halves[i + 1].slot);
       adj_[3 * halves[i + 1].slot + halves[i + 1].edge] = static_cast<std::int32_t>(halves[i].slot);
@@ -1432,7 +1433,7 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
 
 [[gnu::always_inline]] inline bool ColliderSet::certify_inline(
     std::size_t o, const double p[3], double radius_sq, ContactCache& cache, std::size_t ei,
-    bool& hit, double& signed_distance, double normal[3], Evaluated* pre) const {
+    bool& hit, double& signed_distance, double normal[3], Evaluated* pre, Answer* answer) const {
   ContactCache::Entry& e = cache.entries[ei];
   if (e.count < 0) return false;
   const bool records = radius_sq == cache.band_reach_sq;  // plane records hold for this reach
@@ -1490,6 +1491,7 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
           hit = true;
           signed_distance = detail::signed_from(d, s);
           normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
+          if (answer) answer->tri = n - 9 * stride, answer->stride = stride;
           if (e.age < kMinAge) ++e.age;
           return true;
         }
@@ -1499,6 +1501,7 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
         hit = true;
         signed_distance = detail::signed_from(d, s);
         normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
+          if (answer) answer->tri = n - 9 * stride, answer->stride = stride;
         ContactCache::Plane& pl = cache.entries[ei].plane;
         if (records && plane_due(cache, e, pl)) {
           pl.a[0] = n[-9 * static_cast<std::ptrdiff_t>(stride)];
@@ -1545,6 +1548,7 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
     hit = true;
     signed_distance = detail::signed_from(d, s);
     normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
+          if (answer) answer->tri = n - 9 * stride, answer->stride = stride;
     // The next calls can take a plane certificate (the loser: the other evaluated one): "no
     // force" beyond the band (which holds over edges too), else this face (only from inside
     // it: make_plane() fails elsewhere, as clear_radius() does).
@@ -1628,10 +1632,18 @@ struct PenaltyLoop {
     return ob.kept > 0;
   }
   using Evaluated = ColliderSet::Evaluated;
+  using Answer = ColliderSet::Answer;
   static bool certify(const ColliderSet& set, std::size_t o, const double p[3], double radius_sq,
                       ContactCache& cache, std::size_t ei, bool& hit, double& signed_distance,
-                      double normal[3], Evaluated& pre) {
-    return set.certify_inline(o, p, radius_sq, cache, ei, hit, signed_distance, normal, &pre);
+                      double normal[3], Evaluated& pre, Answer& answer) {
+    return set.certify_inline(o, p, radius_sq, cache, ei, hit, signed_distance, normal, &pre, &answer);
+  }
+  /// Whether object o has a rim (an edge not shared by exactly two triangles).
+  static bool open(const ColliderSet& set, std::size_t o) { return set.objects_[o].open; }
+  /// The kept triangle data of a hit (its input triangle index): component k at [k * kBlock].
+  static const double* triangle_data(const ColliderSet& set, const ColliderHit& h) {
+    const ColliderSet::Object& ob = set.objects_[static_cast<std::size_t>(h.object)];
+    return set.tri_ptr(static_cast<std::uint32_t>(ob.input_to_kept[static_cast<std::size_t>(h.triangle)]));
   }
   static ColliderHit query_cached(const ColliderSet& set, std::size_t o, const double p[3],
                                   double radius_sq, QueryMethod method, ContactCache& cache,
@@ -1935,6 +1947,16 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
     fi[1] += c * nrm[1];
     fi[2] += c * nrm[2];
   };
+  // An answer of the searches and lists (not of a plane record, which is always over a face):
+  // in an edge or corner region, within the band, the distance and direction of the closest
+  // point instead of the face's (detail::edge_contact()).
+  const auto respond_at = [&](double* fi, std::size_t o, const double p[3], double d, const double* nrm,
+                              const double* tri, std::size_t stride) {
+    double dd = d, dir[3];
+    if (tri != nullptr && d <= eps && detail::edge_contact(p, tri, stride, detail::PenaltyLoop::open(set, o), dd, dir))
+      return respond(fi, dd, dir);
+    respond(fi, d, nrm);
+  };
   // Everything but a certificate's common case, kept out of the loop.
   const auto full = [&](std::size_t i, std::size_t o, const double p[3],
                         const detail::PenaltyLoop::Evaluated& pre) __attribute__((noinline)) {
@@ -1949,7 +1971,8 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
       h = set.query_object(o, p, reach_sq, method, hint);
       if (!hints.empty()) hints[i * no + o] = h.triangle;
     }
-    if (h.valid()) respond(pf + static_cast<Eigen::Index>(i) * fs, h.signed_distance, h.normal.data());
+    if (h.valid()) respond_at(pf + static_cast<Eigen::Index>(i) * fs, o, p, h.signed_distance, h.normal.data(),
+                              detail::PenaltyLoop::triangle_data(set, h), kBlock);
   };
   // One (point, object) pair: the object's box, the plane certificate, the inlined check, the rest.
   const auto pair = [&](std::size_t i, std::size_t o, const double p[3]) {
@@ -1985,11 +2008,12 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
     bool hit = false;
     double d = 0.0, nrm[3];
     detail::PenaltyLoop::Evaluated pre;
+    detail::PenaltyLoop::Answer answer;
     if (cache &&
-        detail::PenaltyLoop::certify(set, o, p, reach_sq, *cache, i * no + o, hit, d, nrm, pre))
+        detail::PenaltyLoop::certify(set, o, p, reach_sq, *cache, i * no + o, hit, d, nrm, pre, answer))
         [[likely]] {
       ++stats.certified;
-      if (hit) respond(pf + static_cast<Eigen::Index>(i) * fs, d, nrm);
+      if (hit) respond_at(pf + static_cast<Eigen::Index>(i) * fs, o, p, d, nrm, answer.tri, answer.stride);
     } else {
       full(i, o, p, pre);
     }

@@ -312,6 +312,7 @@ struct ColliderSet {
     std::size_t kept = 0;                      ///< triangles kept by build()
     std::uint32_t root = 0;                    ///< binary node index (valid when tri_end > tri_begin)
     std::uint32_t root4 = 0;                   ///< its Node4 (or leaf) in Node::packed form
+    bool open = false;  ///< an edge not shared by exactly two kept triangles (a rim): no inside
     Node root_box{};                           ///< the root's box (the early-out per object)
     /// Axis-aligned box of its kept triangles, padded as bounds_min/max (empty: lo > hi).
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(1.0), hi = Eigen::Vector3d::Constant(-1.0);
@@ -342,9 +343,14 @@ struct ColliderSet {
   /// certify_fast(), inlined into accumulate_penalty()'s per-point loop. It makes plane
   /// records only for the cache's band (radius_sq == band_reach_sq). Giving up with a third
   /// candidate that may tie, it leaves the two it evaluated in `*pre` (if given).
+  /// Where the answer's triangle data is (component k at tri[k * stride]).
+  struct Answer {
+    const double* tri = nullptr;
+    std::size_t stride = 0;
+  };
   bool certify_inline(std::size_t o, const double p[3], double radius_sq, ContactCache& cache,
                       std::size_t ei, bool& hit, double& signed_distance, double normal[3],
-                      Evaluated* pre = nullptr) const;
+                      Evaluated* pre = nullptr, Answer* answer = nullptr) const;
   /// certify_inline()'s "no force" certificate for entry ei, stored as a plane certificate
   /// with nothing to answer (r2 < 0), for a point whose answer lies farther than `band` on
   /// its triangle's front side: within its radius every triangle that can be the nearest
