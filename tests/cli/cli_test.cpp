@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 namespace {
@@ -412,9 +413,29 @@ TEST(Cli, ExportObjWritesEveryKSteps) {
     EXPECT_NE(text.find("o RollingDie"), std::string::npos);
     EXPECT_NE(text.find("o Die"), std::string::npos);
     EXPECT_GE(std::count(text.begin(), text.end(), '\n'), 16 + 24);  // 16 vertices + 24 triangles
+    // the render mesh: texture coordinates, faces v/vt, as many vt as v
+    EXPECT_NE(text.find("\nvt "), std::string::npos);
+    EXPECT_NE(text.find("\nf 1/1 "), std::string::npos) << text.substr(0, 400);
+    std::istringstream lines(text);
+    int v = 0, vt = 0;
+    for (std::string l; std::getline(lines, l);) {
+      if (l.rfind("v ", 0) == 0) ++v;
+      if (l.rfind("vt ", 0) == 0) ++vt;
+    }
+    EXPECT_EQ(v, vt);
   }
   EXPECT_EQ(files, 5);  // steps 0, 5, 10, 15, 20
   EXPECT_TRUE(fs::exists(d / "frames" / "dice_000020.obj"));
+  // positions exactly: at step 0 every coordinate is the model's float, read back bit for bit
+  // (6 significant digits wrote 0.0182616 for 0.018261615244430603)
+  std::ifstream in(d / "frames" / "dice_000000.obj");
+  int checked = 0;
+  for (std::string l; std::getline(in, l);)
+    if (l.rfind("v ", 0) == 0) {
+      std::istringstream w(l.substr(2));
+      for (double c; w >> c; ++checked) EXPECT_EQ(c, static_cast<double>(static_cast<float>(c))) << l;
+    }
+  EXPECT_GE(checked, 3 * 16);
 }
 
 // A file where the OBJ directory should be: bad input before the run (exit 2).
