@@ -1501,7 +1501,7 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
         hit = true;
         signed_distance = detail::signed_from(d, s);
         normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
-          if (answer) answer->tri = n - 9 * stride, answer->stride = stride;
+        if (answer) answer->tri = n - 9 * stride, answer->stride = stride;
         ContactCache::Plane& pl = cache.entries[ei].plane;
         if (records && plane_due(cache, e, pl)) {
           pl.a[0] = n[-9 * static_cast<std::ptrdiff_t>(stride)];
@@ -1548,7 +1548,7 @@ ColliderHit ColliderSet::query_cached_from(std::size_t o, const double p[3], dou
     hit = true;
     signed_distance = detail::signed_from(d, s);
     normal[0] = n[0], normal[1] = n[stride], normal[2] = n[2 * stride];
-          if (answer) answer->tri = n - 9 * stride, answer->stride = stride;
+    if (answer) answer->tri = n - 9 * stride, answer->stride = stride;
     // The next calls can take a plane certificate (the loser: the other evaluated one): "no
     // force" beyond the band (which holds over edges too), else this face (only from inside
     // it: make_plane() fails elsewhere, as clear_radius() does).
