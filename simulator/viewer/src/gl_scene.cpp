@@ -279,6 +279,7 @@ GlScene::~GlScene() {
   const GLuint vaos[] = {mesh_vao_, spring_vao_, drag_vao_, bg_vao_};
   glDeleteVertexArrays(4, vaos);
   if (!textures_.empty()) glDeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
+  release_layer();
 }
 
 void GlScene::init(const b2o::Scene& scene, const Model& model) {
@@ -387,20 +388,19 @@ void GlScene::upload_state(const b2o::Scene& scene, const Model& model, const St
   glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
-void GlScene::draw(const b2o::Scene& scene, const Model& model, const Eigen::Matrix4f& view_proj,
-                   const Eigen::Vector3d& eye, const RenderFlags& flags) {
-  target.bind_for_drawing();
-  glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  glDisable(GL_CULL_FACE);  // cloth has two sides; colliders are closed or seen from above
-
+void GlScene::draw_background() {
   glDisable(GL_DEPTH_TEST);
   glUseProgram(bg_prog_);
   glBindVertexArray(bg_vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LEQUAL);
+}
 
+void GlScene::begin_meshes(const Eigen::Matrix4f& view_proj, const Eigen::Vector3d& eye, const RenderFlags& flags) {
+  glDisable(GL_CULL_FACE);  // cloth has two sides; colliders are closed or seen from above
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LEQUAL);
   // Meshes are pushed back a little so that spring lines on them stay visible.
   glEnable(GL_POLYGON_OFFSET_FILL);
   glPolygonOffset(1.0f, 1.0f);
@@ -412,6 +412,15 @@ void GlScene::draw(const b2o::Scene& scene, const Model& model, const Eigen::Mat
   glUniform3f(mu_.flat, kFlatClothRgb[0] / 255.0f, kFlatClothRgb[1] / 255.0f, kFlatClothRgb[2] / 255.0f);
   glActiveTexture(GL_TEXTURE0);
   glBindVertexArray(mesh_vao_);
+}
+
+void GlScene::end_meshes() {
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+// The static objects (cloth false) or the cloths (cloth true), in the scene's order.
+void GlScene::draw_objects(const b2o::Scene& scene, const RenderFlags& flags, bool cloth) {
   auto draw_range = [&](std::uint32_t first_index, std::uint32_t count, std::int32_t material) {
     if (material >= 0 && static_cast<std::uint32_t>(material) < scene.material_count) {
       const b2o::Material& m = scene.materials[material];
@@ -431,11 +440,11 @@ void GlScene::draw(const b2o::Scene& scene, const Model& model, const Eigen::Mat
     glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), GL_UNSIGNED_INT,
                    byte_offset(std::size_t{first_index} * sizeof(std::uint32_t)));
   };
+  if (cloth && flags.hide_cloth) return;
+  glUniform1i(mu_.mode, cloth && flags.flat_cloth ? 1 : 0);
   for (std::uint32_t o = 0; o < scene.object_count; ++o) {
     const b2o::Object& obj = scene.objects[o];
-    const bool cloth = obj.cloth != b2o::kNone;
-    if (cloth && flags.hide_cloth) continue;
-    glUniform1i(mu_.mode, cloth && flags.flat_cloth ? 1 : 0);
+    if ((obj.cloth != b2o::kNone) != cloth) continue;
     if (obj.submesh_count == 0) {
       draw_range(obj.first_index, obj.index_count, b2o::kNone);
       continue;
@@ -443,8 +452,92 @@ void GlScene::draw(const b2o::Scene& scene, const Model& model, const Eigen::Mat
     for (std::uint32_t s = obj.first_submesh; s < obj.first_submesh + obj.submesh_count; ++s)
       draw_range(scene.submeshes[s].first_index, scene.submeshes[s].index_count, scene.submeshes[s].material);
   }
-  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-  glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+void GlScene::release_layer() {
+  if (layer_fbo_) glDeleteFramebuffers(1, &layer_fbo_);
+  const GLuint rbs[] = {layer_color_, layer_depth_};
+  if (layer_color_ || layer_depth_) glDeleteRenderbuffers(2, rbs);
+  layer_fbo_ = layer_color_ = layer_depth_ = 0;
+  layer_w_ = layer_h_ = 0;
+  layer_valid_ = false;
+}
+
+// Copies the static layer (background and static meshes, drawn again first if the camera,
+// the size or wireframe changed) into the bound target, colour and depth; false if there is
+// none to copy (off, or the GL refused it), and then nothing was drawn.
+bool GlScene::static_layer(const b2o::Scene& scene, const Eigen::Matrix4f& view_proj, const Eigen::Vector3d& eye,
+                           const RenderFlags& flags) {
+  if (!cache_static || layer_refused_ || !target.to_window || target.width <= 0 || target.height <= 0) return false;
+  if (layer_w_ != target.width || layer_h_ != target.height) {
+    release_layer();
+    glGenFramebuffers(1, &layer_fbo_);
+    glBindFramebuffer(GL_FRAMEBUFFER, layer_fbo_);
+    glGenRenderbuffers(1, &layer_color_);
+    glBindRenderbuffer(GL_RENDERBUFFER, layer_color_);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, target.width, target.height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, layer_color_);
+    glGenRenderbuffers(1, &layer_depth_);
+    glBindRenderbuffer(GL_RENDERBUFFER, layer_depth_);
+    // the window's format (GLFW's default 24 + 8 bits): a depth copy needs the same on both sides
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, target.width, target.height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, layer_depth_);
+    const bool complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    target.bind_for_drawing();
+    if (!complete) {
+      release_layer();
+      layer_refused_ = true;
+      return false;
+    }
+    layer_w_ = target.width;
+    layer_h_ = target.height;
+  }
+  if (!layer_valid_ || flags.wireframe != layer_wireframe_ || !(view_proj == layer_view_proj_) || eye != layer_eye_) {
+    glBindFramebuffer(GL_FRAMEBUFFER, layer_fbo_);
+    glViewport(0, 0, layer_w_, layer_h_);
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    draw_background();
+    begin_meshes(view_proj, eye, flags);
+    draw_objects(scene, flags, false);
+    end_meshes();
+    layer_valid_ = true;
+    layer_view_proj_ = view_proj;
+    layer_eye_ = eye;
+    layer_wireframe_ = flags.wireframe;
+    ++static_redraws_;
+  }
+  if (!layer_checked_) while (glGetError() != GL_NO_ERROR) {}
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, layer_fbo_);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+  glBlitFramebuffer(0, 0, layer_w_, layer_h_, 0, 0, layer_w_, layer_h_, GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT,
+                    GL_NEAREST);
+  target.bind_for_drawing();
+  if (!layer_checked_) {  // once: a window whose depth format differs refuses the copy
+    layer_checked_ = true;
+    if (glGetError() != GL_NO_ERROR) {
+      release_layer();
+      layer_refused_ = true;
+      return false;
+    }
+  }
+  ++cached_frames_;
+  return true;
+}
+
+void GlScene::draw(const b2o::Scene& scene, const Model& model, const Eigen::Matrix4f& view_proj,
+                   const Eigen::Vector3d& eye, const RenderFlags& flags) {
+  const bool from_layer = static_layer(scene, view_proj, eye, flags);
+  target.bind_for_drawing();
+  if (!from_layer) {
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    draw_background();
+  }
+  begin_meshes(view_proj, eye, flags);
+  if (!from_layer) draw_objects(scene, flags, false);
+  draw_objects(scene, flags, true);
+  end_meshes();
 
   glUseProgram(line_prog_);
   glUniformMatrix4fv(line_view_proj_, 1, GL_FALSE, view_proj.data());

@@ -75,6 +75,16 @@ class GlScene {
             const Eigen::Vector3d& eye, const RenderFlags& flags);
 
   RenderTarget target;
+  /// Set before drawing, for a target without multisampling (`to_window`): keep the
+  /// background and the static meshes (every object that is not cloth) of the last camera in
+  /// a colour + depth framebuffer, and start each frame from a copy of it, so that only the
+  /// cloth, lines and text are drawn again. Redrawn when the camera, the window's size or
+  /// wireframe changes. The same pixels as a full draw (tests/viewer/static_layer_test.cpp);
+  /// if the GL refuses the copy (another depth format), every frame is drawn in full.
+  bool cache_static = false;
+  /// Frames started from the cached layer so far, and times the layer was drawn.
+  std::uint64_t cached_frames() const { return cached_frames_; }
+  std::uint64_t static_redraws() const { return static_redraws_; }
 
  private:
   struct MeshUniforms {
@@ -90,6 +100,21 @@ class GlScene {
   GLuint text_prog_ = 0, text_vao_ = 0, text_vbo_ = 0, text_ebo_ = 0;
   GLint text_screen_ = -1, text_color_ = -1, text_offset_ = -1;
   void draw_text(const std::string& text);
+  void draw_background();
+  void begin_meshes(const Eigen::Matrix4f& view_proj, const Eigen::Vector3d& eye, const RenderFlags& flags);
+  void draw_objects(const b2o::Scene& scene, const RenderFlags& flags, bool cloth);
+  void end_meshes();
+  bool static_layer(const b2o::Scene& scene, const Eigen::Matrix4f& view_proj, const Eigen::Vector3d& eye,
+                    const RenderFlags& flags);
+  void release_layer();
+  // The cached static layer (cache_static): its framebuffer and what it was drawn for.
+  GLuint layer_fbo_ = 0, layer_color_ = 0, layer_depth_ = 0;
+  int layer_w_ = 0, layer_h_ = 0;
+  bool layer_valid_ = false, layer_refused_ = false, layer_checked_ = false;
+  Eigen::Matrix4f layer_view_proj_ = Eigen::Matrix4f::Zero();
+  Eigen::Vector3d layer_eye_ = Eigen::Vector3d::Zero();
+  bool layer_wireframe_ = false;
+  std::uint64_t cached_frames_ = 0, static_redraws_ = 0;
   std::vector<GLuint> textures_;
   std::size_t structural_springs_ = 0, bend_springs_ = 0;
   bool code_built_cloth_ = false;  // a cloth with no scene mesh: always drawn as springs

@@ -1,0 +1,226 @@
+// The viewer's cached static layer (GlScene::cache_static): a frame started from the copy of the
+// background and static meshes must be the same pixels as a frame drawn in full, from any
+// camera (also one below the floor, where the floor hides the cloth: the copy's depth), with the
+// cloth moved, in wireframe and at another size. Runs in-process in a GL 3.3 core window
+// under xvfb-run (tests/viewer/CMakeLists.txt); without a display it is skipped.
+#include "hand_scene.hpp"
+
+#include "../../simulator/viewer/src/gl_scene.hpp"
+
+#include <clothsim/scene.hpp>
+#include <clothsim/sim.hpp>
+#include <clothsim/step.hpp>
+
+#include <Eigen/Geometry>
+#include <GLFW/glfw3.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <vector>
+
+namespace {
+
+using clothsim::testing::HandScene;
+
+constexpr int kW = 320, kH = 180;
+
+Eigen::Matrix4f look_at(const Eigen::Vector3f& eye, const Eigen::Vector3f& at, const Eigen::Vector3f& up) {
+  const Eigen::Vector3f f = (at - eye).normalized(), s = f.cross(up).normalized(), u = s.cross(f);
+  Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
+  m.block<1, 3>(0, 0) = s.transpose();
+  m.block<1, 3>(1, 0) = u.transpose();
+  m.block<1, 3>(2, 0) = -f.transpose();
+  m(0, 3) = -s.dot(eye);
+  m(1, 3) = -u.dot(eye);
+  m(2, 3) = f.dot(eye);
+  return m;
+}
+
+Eigen::Matrix4f perspective(float fovy, float aspect, float near, float far) {
+  const float t = 1.0f / std::tan(0.5f * fovy);
+  Eigen::Matrix4f m = Eigen::Matrix4f::Zero();
+  m(0, 0) = t / aspect;
+  m(1, 1) = t;
+  m(2, 2) = (far + near) / (near - far);
+  m(2, 3) = 2.0f * far * near / (near - far);
+  m(3, 2) = -1.0f;
+  return m;
+}
+
+struct View {
+  Eigen::Matrix4f view_proj;
+  Eigen::Vector3d eye;
+};
+
+View view_from(const Eigen::Vector3f& eye, int w = kW, int h = kH,
+               const Eigen::Vector3f& at = Eigen::Vector3f(0.0f, 0.6f, 0.0f)) {
+  return {perspective(1.0f, static_cast<float>(w) / static_cast<float>(h), 0.05f, 50.0f) *
+              look_at(eye, at, Eigen::Vector3f::UnitY()),
+          eye.cast<double>()};
+}
+
+class StaticLayer : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const char* display = std::getenv("DISPLAY");
+    if (!display || !*display || !glfwInit()) return;
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    window_ = glfwCreateWindow(kW, kH, "static_layer_test", nullptr, nullptr);
+    if (!window_) return;
+    glfwMakeContextCurrent(window_);
+    glewExperimental = GL_TRUE;
+    if (glewInit() != GLEW_OK) {
+      glfwDestroyWindow(window_);
+      window_ = nullptr;
+      return;
+    }
+    while (glGetError() != GL_NO_ERROR) {}
+  }
+  static void TearDownTestSuite() {
+    if (window_) glfwDestroyWindow(window_);
+    window_ = nullptr;
+    glfwTerminate();
+  }
+
+  void SetUp() override {
+    if (!window_) GTEST_SKIP() << "no display or no GL 3.3 core context (run under xvfb-run)";
+    hand_ = std::make_unique<HandScene>();
+    model_ = std::make_unique<clothsim::Model>(
+        clothsim::build_model(hand_->scene, clothsim::scene_options(hand_->scene)));
+    state_ = std::make_unique<clothsim::State>(clothsim::make_state(*model_));
+    ws_ = std::make_unique<clothsim::Workspace>(clothsim::make_workspace(*model_));
+    gpu_ = std::make_unique<clothsim::view::GlScene>();
+    gpu_->init(hand_->scene, *model_);
+    gpu_->target.max_samples = 0;
+    gpu_->target.to_window = true;
+    ASSERT_TRUE(gpu_->target.resize(kW, kH));
+    gpu_->upload_state(hand_->scene, *model_, *state_, true);
+  }
+  void TearDown() override {
+    gpu_.reset();  // its GL objects, while the context is current
+  }
+
+  std::vector<unsigned char> frame(const View& v, bool cached, const clothsim::view::RenderFlags& flags = {}) {
+    gpu_->cache_static = cached;
+    gpu_->draw(hand_->scene, *model_, v.view_proj, v.eye, flags);
+    std::vector<unsigned char> rgb = gpu_->target.read_rgb();
+    EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+    return rgb;
+  }
+
+  static void clear_window_depth() {
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glClearDepth(1.0);
+    glClear(GL_DEPTH_BUFFER_BIT);
+  }
+
+  // Pixels that differ between two pictures of the same size by more than one level in a
+  // channel, or at all in more than 1 in 1000 pixels: llvmpipe rounds a fragment's colour into
+  // the window's format and into the layer's RGBA8 one level apart now and then (1 pixel of
+  // 57 600 here), and what this test looks for (a missing depth copy, a stale layer) changes
+  // whole regions.
+  static long differing(const std::vector<unsigned char>& a, const std::vector<unsigned char>& b) {
+    if (a.size() != b.size()) return -1;
+    long off_by_one = 0, more = 0;
+    for (std::size_t i = 0; i < a.size(); i += 3) {
+      int worst = 0;
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int{a[i + c]} - int{b[i + c]}));
+      off_by_one += worst == 1;
+      more += worst > 1;
+    }
+    return static_cast<std::size_t>(off_by_one) * 1000 > a.size() / 3 ? more + off_by_one : more;
+  }
+
+  static GLFWwindow* window_;
+  std::unique_ptr<HandScene> hand_;
+  std::unique_ptr<clothsim::Model> model_;
+  std::unique_ptr<clothsim::State> state_;
+  std::unique_ptr<clothsim::Workspace> ws_;
+  std::unique_ptr<clothsim::view::GlScene> gpu_;
+};
+GLFWwindow* StaticLayer::window_ = nullptr;
+
+TEST_F(StaticLayer, FramesFromTheLayerAreTheFullDrawsPixels) {
+  const View above = view_from({1.4f, 2.4f, 2.0f});
+  const auto full = frame(above, false);
+  const auto first = frame(above, true);   // draws the layer, then copies it
+  const auto second = frame(above, true);  // copies it only
+  EXPECT_EQ(gpu_->static_redraws(), 1u);
+  EXPECT_EQ(gpu_->cached_frames(), 2u);
+  EXPECT_EQ(differing(full, first), 0);
+  EXPECT_EQ(differing(full, second), 0);
+  // the picture shows both the floor and the cloth (so the comparison says something)
+  clothsim::view::RenderFlags hide;
+  hide.hide_cloth = true;
+  EXPECT_GT(differing(full, frame(above, false, hide)), kW * kH / 20);
+}
+
+TEST_F(StaticLayer, TheLayersDepthHidesTheClothBehindTheFloor) {
+  // From below the floor, the floor (drawn two-sided) hides the cloth above it: only the
+  // copied depth can say so.
+  const View below = view_from({0.4f, -2.5f, 1.0f});
+  clothsim::view::RenderFlags hide;
+  hide.hide_cloth = true;
+  const auto without_cloth = frame(below, false, hide);
+  clear_window_depth();  // a fresh back buffer: only the copy can hide the cloth
+  EXPECT_EQ(differing(frame(below, true), without_cloth), 0);
+  clear_window_depth();
+  EXPECT_EQ(differing(frame(below, true), without_cloth), 0);
+  EXPECT_EQ(differing(frame(below, false), without_cloth), 0);
+  EXPECT_EQ(gpu_->cached_frames(), 2u);
+}
+
+TEST_F(StaticLayer, ANewCameraDrawsTheLayerAgain) {
+  const View a = view_from({1.4f, 2.4f, 2.0f}), b = view_from({-3.0f, 1.5f, 2.0f});
+  frame(a, true);
+  const auto moved = frame(b, true);
+  EXPECT_EQ(gpu_->static_redraws(), 2u);
+  EXPECT_EQ(differing(moved, frame(b, false)), 0);
+  // the same matrix but another eye (the specular highlights follow it)
+  View c = b;
+  c.eye.x() += 0.5;
+  frame(c, true);
+  EXPECT_EQ(gpu_->static_redraws(), 3u);
+  // the same eye looking elsewhere
+  View d = view_from({-3.0f, 1.5f, 2.0f}, kW, kH, Eigen::Vector3f(0.5f, 0.0f, 0.0f));
+  d.eye = c.eye;
+  const auto turned = frame(d, true);
+  EXPECT_EQ(gpu_->static_redraws(), 4u);
+  EXPECT_EQ(differing(turned, frame(d, false)), 0);
+}
+
+TEST_F(StaticLayer, TheClothMovesOverAnUnchangedLayer) {
+  const View above = view_from({1.4f, 2.4f, 2.0f});
+  const auto before = frame(above, true);
+  for (int i = 0; i < 300; ++i) ASSERT_TRUE(clothsim::step(*model_, *state_, *ws_).finite);
+  gpu_->upload_state(hand_->scene, *model_, *state_, true);
+  const auto after = frame(above, true);
+  EXPECT_EQ(gpu_->static_redraws(), 1u);
+  EXPECT_GT(differing(before, after), 0);  // the cloth fell
+  EXPECT_EQ(differing(after, frame(above, false)), 0);
+}
+
+TEST_F(StaticLayer, WireframeAndSizeChangesDrawTheLayerAgain) {
+  const View above = view_from({1.4f, 2.4f, 2.0f});
+  clothsim::view::RenderFlags wire;
+  wire.wireframe = true;
+  frame(above, true);
+  const auto cached_wire = frame(above, true, wire);
+  EXPECT_EQ(gpu_->static_redraws(), 2u);
+  EXPECT_EQ(differing(cached_wire, frame(above, false, wire)), 0);
+
+  ASSERT_TRUE(gpu_->target.resize(200, 120));  // a part of the window
+  const View small = view_from({1.4f, 2.4f, 2.0f}, 200, 120);
+  const auto cached_small = frame(small, true);
+  EXPECT_EQ(cached_small.size(), 200u * 120u * 3u);
+  EXPECT_EQ(gpu_->static_redraws(), 3u);
+  EXPECT_EQ(differing(cached_small, frame(small, false)), 0);
+}
+
+}  // namespace
