@@ -316,10 +316,15 @@ class Viewer {
     if (chooser_ && chooser_->cores() > 1 && chooser_->steps_one() + chooser_->steps_many() > 0)
       std::snprintf(thread_note, sizeof thread_note, "; threads auto: %d for %.1f %% of the steps",
                     chooser_->cores(), 100.0 * chooser_->share_many());
+    // what a frame cost besides its steps: drawing, the copy to the screen, events
+    char per_frame[64] = "";
+    if (frames > 0)
+      std::snprintf(per_frame, sizeof per_frame, ", %.1f ms each besides the steps",
+                    1e3 * std::max(wall - total_step_time, 0.0) / static_cast<double>(frames));
     std::printf("clothsim: viewer closed at t = %.2f s after %llu steps%s (%.3f ms/step, %.2fx real "
-                "time over %.2f s running, %s; %ld frames in %.2f s%s)%s\n",
+                "time over %.2f s running, %s; %ld frames in %.2f s%s%s)%s\n",
                 state_.t, static_cast<unsigned long long>(steps_done), of_sub.c_str(),
-                rates.ms_per_step, rates.realtime, run_wall, pace, frames, wall, thread_note,
+                rates.ms_per_step, rates.realtime, run_wall, pace, frames, wall, per_frame, thread_note,
                 non_finite_ ? " (state non-finite)" : "");
     return non_finite_ ? 1 : 0;
   }
