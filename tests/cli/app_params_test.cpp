@@ -2,6 +2,8 @@
 // says the scene bakes it, and the command line can override it.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -68,6 +70,28 @@ TEST(AppParams, ABakedGravityVectorIsShownAndItsReplacementSaid) {
   EXPECT_EQ(run(hand.scene, {"--headless", "--steps", "2", "--gravity", "9.81"}, err), 0) << err;
   EXPECT_NE(err.find("--gravity 9.81 replaces the scene's gravity (3, -9.81, 0) by (0, -9.81, 0)"), std::string::npos)
       << err;
+}
+
+}  // namespace
+
+namespace {
+
+// A scene baked without CLOTH (every object a collider; blender2ogl_add_scene allows it):
+// nothing moves, and a run says so and ends cleanly (it crashed in the start-up checks).
+TEST(AppParams, ASceneWithoutClothRunsAndSaysSo) {
+  clothsim::testing::HandScene hand(6);
+  hand.objects[0].cloth = b2o::kNone;
+  hand.scene.cloth_count = 0;
+  hand.scene.cloths = nullptr;
+  const std::string report = ::testing::TempDir() + "no_cloth.json";
+  std::string err;
+  EXPECT_EQ(run(hand.scene, {"--headless", "--quiet", "--steps", "5", "--report", report}, err), 0) << err;
+  EXPECT_NE(err.find("no cloth"), std::string::npos) << err;
+  std::ifstream in(report);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("\"masses\": 0"), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("\"finite\": true"), std::string::npos) << text.str();
 }
 
 }  // namespace

@@ -513,6 +513,10 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   // Every start-up warning, printed (also with --quiet) and listed in the report: tunnelling,
   // a closed collider whose faces point inwards, cloth masses that start inside a collider.
   std::vector<std::string> warnings;
+  if (model.mass_count() == 0)
+    warnings.push_back(std::string("warning: scene '") + (scene.name ? scene.name : "?") +
+                       "' has no cloth: nothing moves (name the cloth objects in blender2ogl_add_scene's CLOTH, "
+                       "or blender2ogl -a)");
   if (tunnel.warn) warnings.push_back(tunnel.message);
   for (std::string& w : collider_warnings(model)) warnings.push_back(std::move(w));
   for (const std::string& w : warnings) std::cerr << "clothsim: " << w << "\n";

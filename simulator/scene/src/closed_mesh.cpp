@@ -62,7 +62,8 @@ std::int64_t count_inside(const TriangleCorners& corners, const Eigen::Matrix3Xd
 
 BehindCount count_behind(const ColliderSet& set, std::size_t o, const Eigen::Matrix3Xd& points, double eps) {
   BehindCount out;
-  if (!set.built() || o >= set.object_count() || set.triangle_count(o) == 0 || !(eps > 0.0)) return out;
+  if (!set.built() || o >= set.object_count() || set.triangle_count(o) == 0 || !(eps > 0.0) || points.cols() == 0)
+    return out;
   // within the cloth's size of the collider (farther, contact is not in sight)
   const Eigen::Vector3d lo = points.rowwise().minCoeff(), hi = points.rowwise().maxCoeff();
   const double radius = std::max(2.0 * eps, (hi - lo).norm());
