@@ -63,7 +63,7 @@ struct Material {
 };
 
 struct Texture {
-  std::string name;  ///< as written in the .mtl
+  std::string name;  ///< as written in the .mtl (relative to the model's folder when the .mtl is in another)
   std::vector<unsigned char> bytes;
 };
 

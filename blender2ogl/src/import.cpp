@@ -309,7 +309,7 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
       auto check_mtl = [&](const std::filesystem::path& mtl) {
         MtlScan m;
         try {
-          m = prescan_mtl_file(mtl);
+          m = prescan_mtl_file(mtl, folder.empty() ? std::filesystem::path(".") : folder);
         } catch (const InputError& e) {
           throw InputError(std::string(e.what()) + " (material library of " + file.filename().string() + ")");
         }

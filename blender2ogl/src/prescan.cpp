@@ -122,6 +122,10 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   std::string joined;
   std::vector<std::string_view> tok;
   std::size_t freeform = 0, freeform_line = 0;  // freeform statements cut, the first one's line
+  struct Made {
+    std::size_t vertices = 0, faces = 0, line = 0;
+  };
+  std::map<std::string, Made> made;  // per object name: what it wrote, and its first line
   while (!rest.empty()) {
     ++line_no;
     const std::size_t start_line = line_no;
@@ -202,6 +206,12 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
           fail(file, start_line, "malformed number " + quote_input(tok[k]));
         }
         if (!std::isfinite(v)) fail(file, start_line, "number out of range " + quote_input(tok[k]));
+        // '.5': assimp 5.2.5 takes no number for it and skips the whole statement (a vertex
+        // lost, every later index shifted); it is given '0.5'
+        if (tok[k][0] == '.') {
+          if (continued) fail(file, start_line, "a number starting with '.' on a continued line ('\\' at the end) is not supported; write " + quote_input("0" + std::string(tok[k])));
+          cuts.push_back({static_cast<std::size_t>(tok[k].data() - text.data()), 0, "0"});
+        }
         if (k <= 4) values[k - 1] = v;
       }
       return values;
@@ -218,6 +228,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       count_in({3, 4, 6}, "3 coordinates (x y z), 4 (x y z w) or 6 (x y z r g b)");
       if (tok.size() == 5 && std::strtod(std::string(tok[4]).c_str(), nullptr) == 0.0) fail(file, start_line, "'v' with w = 0 (a point at infinity)");
       ++scan.positions;
+      if (!current_group.empty()) ++made[current_group].vertices;
       if (in_pin_object) {
         // (the values are only parsed here: pin points need them, nothing else does)
         double xyz[3];
@@ -277,6 +288,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       }
       if (face && owner != intended) throw InputError(misplaced);
       if (face) ++scan.faces; else ++scan.lines_points;
+      if (face && !current_group.empty()) ++made[current_group].faces;
     } else if (key == "o" || key == "g") {
       ++scan.groups;
       // The name as the file writes it: the rest of the line, spaces inside kept (Blender
@@ -285,10 +297,10 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       std::size_t name_at = std::string_view::npos, raw_end = body_all.size();
       if (tok.size() > 1) {
         name_at = static_cast<std::size_t>(tok[1].data() - body_all.data());
-        std::size_t stop = body_all.size();
+        std::size_t stop = body_all.size(), hash = std::string_view::npos;
         for (std::size_t i = name_at; i < body_all.size(); ++i)
           if (body_all[i] == '#' && (body_all[i - 1] == ' ' || body_all[i - 1] == '\t')) {
-            stop = i;
+            stop = hash = i;
             break;
           }
         if (!body_all.empty() && body_all.back() == '\r') raw_end = body_all.size() - 1;
@@ -297,6 +309,17 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
                                   body_all[stop - 1] == '\f' || body_all[stop - 1] == '\v'))
           --stop;
         current_group.assign(body_all.substr(name_at, stop - name_at));
+        // Blender allows '#' in names and writes it as it is; a '#' after a space is read as
+        // the start of a comment, as in the OBJ spec
+        if (hash < raw_end && !current_group.empty()) {
+          scan.warnings.push_back(file.string() + ":" + std::to_string(start_line) + ": object name read as " +
+                                  quote_input(current_group) + ": " +
+                                  quote_input(std::string(body_all.substr(hash, raw_end - hash))) +
+                                  " is a comment in OBJ; if it is part of the name, rename the object without "
+                                  "' #' (an -a or CLOTH name and a '_pins' helper must use " +
+                                  quote_input(current_group) + ")");
+        }
+        if (!current_group.empty() && made.count(current_group) == 0) made[current_group].line = start_line;
       }
       // assimp reads an `o` name up to its first space and a `g` name with the rest of the
       // line (comment and trailing spaces included); it is given the name encoded (spaces,
@@ -367,16 +390,39 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       std::string name(body.substr(body.find("mtllib") + 6));
       while (!name.empty() && (name.front() == ' ' || name.front() == '\t')) name.erase(0, 1);
       while (!name.empty() && (name.back() == ' ' || name.back() == '\t' || name.back() == '\r')) name.pop_back();
+      // assimp opens the rest of the line as it is: trailing spaces or a comment lost the
+      // library (a default grey material, no warning); it is given the name alone
+      if (!continued && !name.empty()) {
+        const std::size_t at = static_cast<std::size_t>(body.find(name) + (body.data() - text.data()));
+        std::size_t to = static_cast<std::size_t>(line.data() + line.size() - text.data());
+        if (!line.empty() && line.back() == '\r') --to;
+        if (to > at + name.size()) cuts.push_back({at + name.size(), to - at - name.size(), {}});
+      }
       scan.mtllibs.push_back(name);
       scan.mtllib_lines.push_back(start_line);
     }
   }
+  // Objects of loose vertices (no faces): assimp drops them. A pin helper is read above by
+  // its name; any other one is left out, which the user is told.
+  for (const auto& [name, m] : made)
+    if (m.vertices > 0 && m.faces == 0 && !is_pin_object_name(name)) {
+      const bool pin_like = name.find("_pins") != std::string::npos || name.find(".pins") != std::string::npos;
+      scan.warnings.push_back(
+          file.string() + ":" + std::to_string(m.line) + ": object " + quote_input(name) + " has " +
+          std::to_string(m.vertices) + " vertices and no faces: left out (only faces are drawn)" +
+          (pin_like ? std::string("; a pin helper is found by the exact name '<cloth>_pins' (Blender's legacy "
+                                  "exporter writes 'Object_Mesh': give the mesh data the object's name, or use "
+                                  "Blender 3.3's exporter)")
+                    : std::string()));
+    }
   if (freeform > 0)
     scan.warnings.push_back(file.string() + ":" + std::to_string(freeform_line) + ": " + std::to_string(freeform) +
                             " freeform curve/surface statement" + (freeform == 1 ? "" : "s") +
                             " (cstype, curv, surf, ...) ignored: only faces are drawn (Blender: export with "
                             "'Curves as NURBS' off, or convert the curve to a mesh)");
   if (!cuts.empty()) {
+    // (a line's comment is cut before its numbers are read)
+    std::stable_sort(cuts.begin(), cuts.end(), [](const Cut& a, const Cut& b) { return a.at < b.at; });
     scan.cleaned = true;
     scan.clean_text.reserve(text.size());
     std::size_t from = 0;
@@ -392,7 +438,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   return scan;
 }
 
-MtlScan prescan_mtl_file(const std::filesystem::path& file) {
+MtlScan prescan_mtl_file(const std::filesystem::path& file, const std::filesystem::path& model_folder) {
   MtlScan scan;
   std::vector<MapKd>& maps = scan.maps;
   std::map<std::string, std::size_t> defined;  // name -> first line
@@ -446,12 +492,80 @@ MtlScan prescan_mtl_file(const std::filesystem::path& file) {
       continue;
     }
     if (!in_material) fail(file, line_no, quote_input(key) + " before any 'newmtl'");
-    if (key == "map_Kd" && tok.size() > 1) {
-      // the rest of the line (options and the file name), to tell a missing texture's line
-      const std::size_t from = static_cast<std::size_t>(tok[1].data() - line.data());
-      std::string arg = line.substr(from);
-      while (!arg.empty() && (arg.back() == ' ' || arg.back() == '\t' || arg.back() == '\r')) arg.pop_back();
-      maps.push_back({arg, line_no});
+    auto replace_line = [&](const std::string& with) {
+      scan.clean_text.resize(clean_from);
+      scan.clean_text.append(with).push_back('\n');
+      scan.cleaned = true;
+    };
+    if (key.size() == 6 && (key[0] | 0x20) == 'm' && (key[1] | 0x20) == 'a' && (key[2] | 0x20) == 'p' &&
+        key[3] == '_' && (key[4] | 0x20) == 'k' && (key[5] | 0x20) == 'd') {  // map_Kd in any case
+      // assimp is given `map_Kd <file>`: it misread options with fewer than 3 numbers
+      // (`-s 2 2`), or ones it does not know (`-type`, `-cc`), as part of the name and lost
+      // the texture; trailing spaces too. The scale, offset and turbulence are not drawn.
+      const std::string where = file.string() + ":" + std::to_string(line_no) + ": ";
+      std::size_t k = 1;
+      bool transformed = false;
+      while (k < tok.size() && tok[k].size() > 1 && tok[k][0] == '-' && !(tok[k][1] >= '0' && tok[k][1] <= '9')) {
+        const std::string option(tok[k]);
+        std::size_t most = 0, least = 0;  // numbers it takes; or one word (on/off, a type, a channel)
+        bool word = false;
+        if (option == "-s" || option == "-o" || option == "-t") most = 3, least = 1;
+        else if (option == "-mm") most = 2, least = 1;
+        else if (option == "-bm" || option == "-boost" || option == "-texres") most = least = 1;
+        else if (option == "-blendu" || option == "-blendv" || option == "-cc" || option == "-clamp" ||
+                 option == "-imfchan" || option == "-type")
+          word = true;
+        else
+          fail(file, line_no, "unknown map_Kd option " + quote_input(option) +
+                                  " (known: -s -o -t -mm -bm -boost -texres -blendu -blendv -cc -clamp -imfchan -type)");
+        ++k;
+        if (word) {
+          if (k >= tok.size()) fail(file, line_no, "map_Kd option " + quote_input(option) + " needs a value");
+          ++k;
+          continue;
+        }
+        std::size_t got = 0;
+        double v = 0.0;
+        // (a texture named like a number, after all the option's numbers, stays the name)
+        while (got < most && k + 1 < tok.size() && parse_number(tok[k], v)) {
+          const double neutral = option == "-s" ? 1.0 : 0.0;
+          if ((option == "-s" || option == "-o" || option == "-t") && v != neutral) transformed = true;
+          ++got, ++k;
+        }
+        if (got < least) fail(file, line_no, "map_Kd option " + quote_input(option) + " needs a number");
+      }
+      if (k >= tok.size()) fail(file, line_no, "map_Kd without a file name");
+      std::string name = line.substr(static_cast<std::size_t>(tok[k].data() - line.data()));
+      while (!name.empty() && (name.back() == ' ' || name.back() == '\t' || name.back() == '\r')) name.pop_back();
+      // A relative name is relative to this .mtl: from another folder than the model's it is
+      // given as relative to the model's folder, which the import reads textures from.
+      std::string rel = name;
+      std::replace(rel.begin(), rel.end(), '\\', '/');
+      const std::filesystem::path mtl_folder = file.parent_path();
+      std::error_code ec;
+      if (!model_folder.empty() && !std::filesystem::path(rel).is_absolute() && !rel.empty() &&
+          !std::filesystem::equivalent(mtl_folder.empty() ? "." : mtl_folder,
+                                       model_folder.empty() ? "." : model_folder, ec) &&
+          std::filesystem::is_regular_file(mtl_folder / rel, ec)) {
+        const std::filesystem::path from_model =
+            std::filesystem::absolute(mtl_folder / rel).lexically_normal().lexically_relative(
+                std::filesystem::absolute(model_folder).lexically_normal());
+        if (!from_model.empty()) name = from_model.generic_string();
+      }
+      if (transformed)
+        scan.warnings.push_back(where + "the texture's scale, offset or turbulence (-s, -o, -t) are not drawn: " +
+                                quote_input(name) + " is mapped as the UVs say");
+      maps.push_back({name, line_no});
+      replace_line("map_Kd " + name);
+      continue;
+    }
+    // Statements the converter does not read are not given to assimp: they are ignored as
+    // they would be, and cannot fail it (assimp 5.2.5 stopped on Blender 4's `aniso` with
+    // "Cannot parse string \"niso\"", naming no file).
+    if (!(key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf" || key == "Ns" || key == "d" ||
+          key == "Tr" || key == "Ni")) {
+      replace_line("");
+      continue;
     }
     const bool color = key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf";
     if (color || key == "Ns" || key == "d" || key == "Tr" || key == "Ni") {

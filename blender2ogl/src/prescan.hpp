@@ -46,7 +46,9 @@ struct MtlScan {
   std::string clean_text;
   bool cleaned = false;
 };
-MtlScan prescan_mtl_file(const std::filesystem::path& file);
+/// `model_folder`: the .obj's folder; a relative texture name of a .mtl in another folder is
+/// given (and returned) relative to it.
+MtlScan prescan_mtl_file(const std::filesystem::path& file, const std::filesystem::path& model_folder = {});
 
 /// An `o`/`g` name as assimp is given it: ' ', tab, form feed, vertical tab, '#' and '%' as
 /// %XX (upper-case hex), so that assimp keeps the whole name; every other byte as it is.

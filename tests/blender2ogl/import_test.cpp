@@ -14,6 +14,17 @@ namespace {
 using namespace b2o::test;
 using b2o::conv::import_scene;
 
+// Runs f, which must throw an InputError whose message holds `part`.
+template <class F>
+void expect_input_error(F f, const std::string& part) {
+  try {
+    f();
+    ADD_FAILURE() << "no error; expected one with: " << part;
+  } catch (const b2o::conv::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+  }
+}
+
 TEST(Import, GridObjectsMaterialsAndTexture) {
   const auto s = import_scene(fixture("grid.obj"), false);
   ASSERT_EQ(s.objects.size(), 2u);  // Cloth_pins is a helper, not an object
@@ -350,6 +361,86 @@ TEST(Import, Utf8ByteOrderMarkInObjAndMtl) {
   EXPECT_EQ(s.submeshes[0].material, 0);
 }
 
+
+// What Blender and other tools write that assimp 5.2.5 misread (found by a new user's
+// exports): a number starting with '.', an mtllib line with trailing spaces or a comment,
+// map_Kd options with fewer than 3 numbers or unknown to assimp, Blender 4's PBR keys.
+TEST(Import, ExportsAssimpMisreadAreReadAsWritten) {
+  const auto dir = scratch("import_misread");
+  // '.5' was no number to assimp: the vertex line was skipped and the indices shifted
+  write_file(dir / "dot.obj", "o A\nv 0 .5 0\nv 1 0 0\nv 0 0 1\nv 1 0 1\nvt 0 .25\nf 1/1 2/1 3/1\n");
+  auto s = import_scene(dir / "dot.obj", false);
+  ASSERT_EQ(s.positions.size(), 9u);
+  EXPECT_EQ(s.positions[1], 0.5f);  // the first corner is (0, .5, 0)
+  EXPECT_EQ(s.positions[3], 1.0f);
+  ASSERT_GE(s.texcoords.size(), 2u);
+  EXPECT_EQ(s.texcoords[1], 0.25f);
+
+  const std::string png = read_file(fixture("checker.png"));
+  write_file(dir / "tex.png", png);
+  write_file(dir / "m.mtl",
+             "newmtl Red\nKd 1 0 0\nPr 0.5\nPm 0.0\nPcr 0.03\naniso 0.000000\nanisor 0.000000\n"
+             "map_Kd -s 2 2 -type sphere -cc on tex.png  \n");
+  for (const char* mtllib : {"mtllib m.mtl # the library\n", "mtllib m.mtl  \t\n"}) {
+    write_file(dir / "lib.obj", std::string(mtllib) + "o A\nv 0 0 0\nv 1 0 0\nv 0 0 1\nusemtl Red\nf 1 2 3\n");
+    s = import_scene(dir / "lib.obj", false);
+    ASSERT_EQ(s.materials.size(), 1u) << mtllib;
+    EXPECT_EQ(s.materials[0].diffuse[0], 1.0f) << mtllib;  // not assimp's default grey
+    EXPECT_EQ(s.materials[0].diffuse[1], 0.0f) << mtllib;
+    ASSERT_EQ(s.textures.size(), 1u) << mtllib;
+    EXPECT_EQ(s.textures[0].name, "tex.png");
+    EXPECT_EQ(s.materials[0].diffuse_texture, 0);
+    // the scale is not drawn: said, at its line
+    ASSERT_EQ(s.warnings.size(), 1u) << mtllib;
+    EXPECT_NE(s.warnings[0].find("m.mtl:8: the texture's scale, offset or turbulence (-s, -o, -t) are not drawn"),
+              std::string::npos)
+        << s.warnings[0];
+  }
+  // an option nobody knows is refused at its line; a missing texture named at its line
+  // whatever the case of map_Kd
+  write_file(dir / "m.mtl", "newmtl Red\nKd 1 0 0\nmap_Kd -zoom 2 tex.png\n");
+  expect_input_error([&] { import_scene(dir / "lib.obj", false); }, "m.mtl:3: unknown map_Kd option '-zoom'");
+  write_file(dir / "m.mtl", "newmtl Red\nKd 1 0 0\nmap_kd lost.png\n");
+  expect_input_error([&] { import_scene(dir / "lib.obj", false); }, "m.mtl:3: texture 'lost.png' of material 'Red' not found");
+}
+
+// Two libraries in two folders naming a texture of the same name: each material gets the
+// one next to its .mtl (both got the first folder's).
+TEST(Import, TexturesAreRelativeToTheirOwnMtl) {
+  const auto dir = scratch("import_two_libs");
+  write_file(dir / "m.obj", "mtllib a/m.mtl\nmtllib b/n.mtl\no A\nv 0 0 0\nv 1 0 0\nv 0 0 1\nv 1 0 1\n"
+                            "usemtl MA\nf 1 2 3\nusemtl MB\nf 2 4 3\n");
+  write_file(dir / "a" / "m.mtl", "newmtl MA\nKd 1 1 1\nmap_Kd tex.png\n");
+  write_file(dir / "b" / "n.mtl", "newmtl MB\nKd 1 1 1\nmap_Kd tex.png\n");
+  const std::string png = read_file(fixture("checker.png"));
+  write_file(dir / "a" / "tex.png", png);
+  write_file(dir / "b" / "tex.png", png + "more");  // (stb reads a PNG with bytes after its end)
+  const auto s = import_scene(dir / "m.obj", false);
+  ASSERT_EQ(s.textures.size(), 2u);
+  EXPECT_EQ(s.textures[0].name, "a/tex.png");
+  EXPECT_EQ(s.textures[1].name, "b/tex.png");
+  EXPECT_EQ(s.textures[1].bytes.size(), png.size() + 4);
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials[0].diffuse_texture, 0);
+  EXPECT_EQ(s.materials[1].diffuse_texture, 1);
+}
+
+// Objects assimp drops or names otherwise are said: an object of loose vertices that is no
+// pin helper (Blender's legacy exporter names a helper 'Cloth_pins_Plane.001'), and a name
+// cut at ' #' (Blender allows "Flag #1").
+TEST(Import, DroppedAndCutObjectsAreWarned) {
+  const auto dir = scratch("import_dropped");
+  write_file(dir / "m.obj", "o Cloth_Plane\nv 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\n"
+                            "o Cloth_pins_Plane.001\nv 0 0 0\nv 1 0 0\n"
+                            "o Flag #1\nv 0 1 0\nv 1 1 0\nv 0 1 1\nf 6 7 8\n");
+  const auto s = import_scene(dir / "m.obj", false);
+  ASSERT_EQ(s.warnings.size(), 2u);
+  const std::string all = s.warnings[0] + "\n" + s.warnings[1];
+  EXPECT_NE(all.find("m.obj:6: object 'Cloth_pins_Plane.001' has 2 vertices and no faces: left out"),
+            std::string::npos) << all;
+  EXPECT_NE(all.find("a pin helper is found by the exact name '<cloth>_pins'"), std::string::npos) << all;
+  EXPECT_NE(all.find("m.obj:9: object name read as 'Flag': '#1' is a comment in OBJ"), std::string::npos) << all;
+}
 
 // No zero or non-finite normal reaches the scene: a face without `vn` among faces with, a
 // `vn 0 0 0`, and a degenerate face get normals from their faces (a warning), (0, 0, 1) when
