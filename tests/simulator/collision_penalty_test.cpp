@@ -360,3 +360,104 @@ TEST(CollisionPenalty, InsideASolidNearAReflexEdgeThePushIsStillOutwards) {
   const Vector3d q(2.03, 1.04, 0.5), e(0.03, 0.04, 0.0);
   EXPECT_LT((force_at(set, q) - kRep * (kEps - e.norm()) * e.normalized()).norm(), 1e-9 * kRep) << force_at(set, q).transpose();
 }
+
+namespace {
+
+// A closed prism along z in [0, 1] whose cross-section is the triangle (-w/2, 0), (w/2, 0),
+// (0, h) with a sharp ridge at the top; each side cut into `s` x `layers` quads (shared
+// vertices: watertight), the caps fans from the centroid. Faces outwards.
+clothsim::meshes::Mesh knife_prism(double w, double h, int s, int layers) {
+  const Vector3d corner[3] = {{-w / 2, 0, 0}, {w / 2, 0, 0}, {0, h, 0}};  // counter-clockwise seen from +z
+  std::vector<Vector3d> ring;
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < s; ++i) ring.push_back(corner[k] + (corner[(k + 1) % 3] - corner[k]) * (double(i) / s));
+  const auto n = static_cast<std::uint32_t>(ring.size());
+  clothsim::meshes::Mesh m;
+  m.vertices.resize(3, static_cast<Eigen::Index>(n * (layers + 1) + 2));
+  for (int l = 0; l <= layers; ++l)
+    for (std::uint32_t i = 0; i < n; ++i)
+      m.vertices.col(static_cast<Eigen::Index>(l * n + i)) = ring[i] + Vector3d(0, 0, double(l) / layers);
+  const std::uint32_t c0 = n * (layers + 1), c1 = c0 + 1;
+  m.vertices.col(c0) = Vector3d(0, h / 3, 0);
+  m.vertices.col(c1) = Vector3d(0, h / 3, 1);
+  for (std::uint32_t l = 0; l < static_cast<std::uint32_t>(layers); ++l)
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::uint32_t a = l * n + i, b = l * n + (i + 1) % n;
+      m.indices.insert(m.indices.end(), {a, b, b + n, a, b + n, a + n});
+    }
+  const std::uint32_t top = static_cast<std::uint32_t>(layers) * n;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    m.indices.insert(m.indices.end(), {c0, (i + 1) % n, i});              // z = 0, facing -z
+    m.indices.insert(m.indices.end(), {c1, top + i, top + (i + 1) % n});  // z = 1, facing +z
+  }
+  return m;
+}
+
+}  // namespace
+
+// Beside a sharp ridge (30 degrees) a point outside the solid can be behind the plane of one
+// of the two faces there; if that face won the tie it was "behind" by |P - Q|, counted as a
+// penetration and pushed by k_rep (eps + |P - Q|) along that face's normal: a force with no
+// potential (a cloth dropped on a knife-edge prism gained 10x its energy). The angle-weighted
+// pseudonormal at the edge tells it is outside: pushed along P - Q, k_rep (eps - |P - Q|), in
+// both face orders, on the plain, cached and copied (> 4096 triangles) paths alike. Inside
+// under the ridge it is still behind.
+TEST(CollisionPenalty, BesideASharpRidgeThePointIsOutside) {
+  const double w = 0.2, h = 0.1 / std::tan(15.0 * M_PI / 180.0);
+  for (const auto& [s, layers] : {std::pair{1, 1}, std::pair{20, 60}}) {
+    const auto prism = knife_prism(w, h, s, layers);
+    std::vector<std::uint32_t> reversed;
+    for (std::size_t t = prism.indices.size(); t >= 3; t -= 3)
+      reversed.insert(reversed.end(), prism.indices.begin() + static_cast<std::ptrdiff_t>(t - 3),
+                      prism.indices.begin() + static_cast<std::ptrdiff_t>(t));
+    for (const auto& indices : {prism.indices, reversed}) {
+      ColliderSet set;
+      set.add_object("prism", prism.vertices, indices);
+      set.build();
+      for (const double side : {1.0, -1.0}) {
+        const Vector3d p(0.02 * side, h + 0.03, 0.5 + 0.5 / 120), q(0.0, h, p.z());
+        const Vector3d e = p - q, want = kRep * (kEps - e.norm()) * e.normalized();
+        PenaltyStats st;
+        const Vector3d f = force_at(set, p, &st);
+        EXPECT_LT((f - want).norm(), 1e-9 * want.norm()) << "s " << s << " side " << side << ": " << f.transpose();
+        EXPECT_EQ(st.max_penetration, 0.0);
+        Eigen::Matrix3Xd x(3, 1), fc = Eigen::Matrix3Xd::Zero(3, 1);
+        x.col(0) = p;
+        clothsim::ContactCache cache;
+        cache.resize(1, set.object_count());
+        for (int call = 0; call < 3; ++call) {
+          fc.setZero();
+          accumulate_penalty(set, x, kEps, kRep, fc, st, cache);
+          EXPECT_EQ(Vector3d(fc.col(0)), f) << "s " << s << " call " << call;
+        }
+      }
+      // inside, just under the ridge: behind, pushed out
+      PenaltyStats st;
+      const Vector3d f = force_at(set, Vector3d(0.0, h - 0.02, 0.5), &st);
+      EXPECT_GT(st.max_penetration, 0.0);
+      EXPECT_GT(f.y(), 0.0) << f.transpose();
+    }
+  }
+}
+
+// The same at the tip of a sharp pyramid (a corner: the pseudonormal weights each face by its
+// angle there): a point above the tip, off to a side, behind one face's plane, is outside.
+TEST(CollisionPenalty, BesideASharpTipThePointIsOutside) {
+  Eigen::Matrix3Xd v(3, 5);
+  v << -0.1, 0.1, 0.1, -0.1, 0.0,  //
+      0.0, 0.0, 0.0, 0.0, 1.0,     //
+      -0.1, -0.1, 0.1, 0.1, 0.0;
+  const std::vector<std::uint32_t> idx = {0, 1, 2, 0, 2, 3,                          // base, facing -y
+                                          0, 4, 1, 1, 4, 2, 2, 4, 3, 3, 4, 0};       // sides, outwards
+  ColliderSet set;
+  set.add_object("pyramid", v, idx);
+  set.build();
+  for (const Vector3d& off : {Vector3d(0.03, 0.02, 0.0), Vector3d(0.0, 0.02, -0.03), Vector3d(-0.02, 0.02, 0.02)}) {
+    const Vector3d p = Vector3d(0, 1, 0) + off;
+    const Vector3d want = kRep * (kEps - off.norm()) * off.normalized();
+    PenaltyStats st;
+    const Vector3d f = force_at(set, p, &st);
+    EXPECT_LT((f - want).norm(), 1e-9 * want.norm()) << off.transpose() << ": " << f.transpose();
+    EXPECT_EQ(st.max_penetration, 0.0) << off.transpose();
+  }
+}

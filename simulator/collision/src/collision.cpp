@@ -1210,6 +1210,7 @@ void ColliderSet::compute_adjacency(std::size_t o) {
     if (i > 0 && less(order[i - 1], order[i])) ++next;
     id[order[i]] = static_cast<std::uint32_t>(next);
   }
+  objects_[o].weld = id;  // (corners of a closed object's sharp features: outside_at_feature())
   // Every edge of every kept triangle, keyed by its two corner ids; an edge of exactly two
   // triangles joins them.
   struct Half {
@@ -1238,6 +1239,88 @@ void ColliderSet::compute_adjacency(std::size_t o) {
     }
     i = j;
   }
+}
+
+bool ColliderSet::outside_at_feature(std::size_t o, const double p[3], const double* t, std::size_t stride,
+                                     TriangleRegion region, const double dir[3]) const {
+  const Object& ob = objects_[o];
+  if (ob.open || ob.weld.empty() || region == TriangleRegion::Face) return false;
+  // The answer's slot: from where its data is, or (a cache's copy) among the nearest
+  // triangles, the one with the same 12 numbers.
+  std::uint32_t slot = std::numeric_limits<std::uint32_t>::max();
+  const auto same = [&](std::uint32_t sl) {
+    const double* u = tri_ptr(sl);
+    for (std::size_t k = 0; k < 12; ++k)
+      if (!(u[k * kBlock] == t[k * stride])) return false;
+    return true;
+  };
+  if (stride == kBlock && t >= tri_.data() && t < tri_.data() + tri_.size()) {
+    const auto off = static_cast<std::size_t>(t - tri_.data());
+    if (off % (12 * kBlock) < kBlock)
+      slot = static_cast<std::uint32_t>(off / (12 * kBlock) * kBlock + off % (12 * kBlock));
+  } else {
+    double s;
+    const double d2 = detail::closest_sq<1>(p, t, s);
+    std::uint32_t slots[kMaxCandidates];
+    double d2s[kMaxCandidates], others = 0.0;
+    const std::size_t n =
+        query_nearest(o, p, d2 * (1.0 + 1e-9) + 1e-300, QueryMethod::Bvh, kMaxCandidates, {}, slots, d2s, others);
+    for (std::size_t j = 0; j < n; ++j)
+      if (same(slots[j])) slot = slots[j];
+  }
+  if (slot < ob.tri_begin || slot >= ob.tri_end || orig_[slot] < 0) return false;
+  const auto normal = [&](std::uint32_t sl, double n[3]) {
+    const double* u = tri_ptr(sl);
+    for (std::size_t k = 0; k < 3; ++k) n[k] = u[(9 + k) * kBlock];
+  };
+  // The angle-weighted pseudonormal N at the closest point Q (Baerentzen and Aanaes, 2005): on
+  // an edge the sum of its two faces' normals, at a corner the sum over the faces around it of
+  // each face's angle there times its normal. P is outside the closed mesh iff (P - Q).N > 0.
+  double N[3] = {0.0, 0.0, 0.0}, n[3];
+  const auto add = [&](std::uint32_t sl, double weight) {
+    normal(sl, n);
+    for (std::size_t k = 0; k < 3; ++k) N[k] += weight * n[k];
+  };
+  const auto corner_id = [&](std::uint32_t sl, std::uint32_t c) {
+    return ob.weld[ob.indices[3 * static_cast<std::size_t>(orig_[sl]) + c]];
+  };
+  const auto angle = [&](std::uint32_t sl, std::uint32_t c) {
+    const detail::Tri tr = tri_at(sl);
+    const Eigen::Vector3d a(tr.ax, tr.ay, tr.az), ab(tr.bx, tr.by, tr.bz), ac(tr.cx, tr.cy, tr.cz);
+    const Eigen::Vector3d corners[3] = {a, a + ab, a + ac};
+    const Eigen::Vector3d u = corners[(c + 1) % 3] - corners[c], w = corners[(c + 2) % 3] - corners[c];
+    return std::atan2(u.cross(w).norm(), u.dot(w));
+  };
+  if (region == TriangleRegion::EdgeAB || region == TriangleRegion::EdgeBC || region == TriangleRegion::EdgeCA) {
+    const std::uint32_t k = region == TriangleRegion::EdgeAB ? 0u : region == TriangleRegion::EdgeBC ? 1u : 2u;
+    const std::int32_t nb = adj_[3 * std::size_t{slot} + k];
+    if (nb < 0) return false;
+    add(slot, 1.0);
+    add(static_cast<std::uint32_t>(nb), 1.0);
+  } else {
+    // Around the corner: across the edge leaving it, into the neighbour, and on across that
+    // neighbour's other edge at the corner, until back at the start.
+    const std::uint32_t c0 = region == TriangleRegion::VertexA ? 0u : region == TriangleRegion::VertexB ? 1u : 2u;
+    const std::uint32_t v = corner_id(slot, c0);
+    std::uint32_t sl = slot, c = c0, edge = c0;  // edge c joins corners c and c + 1
+    for (int steps = 0;; ++steps) {
+      if (steps > 4096) return false;
+      add(sl, angle(sl, c));
+      const std::uint32_t w = corner_id(sl, edge == c ? (c + 1) % 3 : (c + 2) % 3);  // the edge's other end
+      const std::int32_t nb = adj_[3 * std::size_t{sl} + edge];
+      if (nb < 0) return false;
+      sl = static_cast<std::uint32_t>(nb);
+      if (sl == slot) break;
+      c = 3;
+      for (std::uint32_t j = 0; j < 3; ++j)
+        if (corner_id(sl, j) == v) c = j;
+      if (c == 3) return false;
+      // the shared edge is edge c (c -> c + 1) when its other end is w; leave by the other one
+      edge = corner_id(sl, (c + 1) % 3) == w ? (c + 2) % 3 : c;
+    }
+  }
+  const double dot = dir[0] * N[0] + dir[1] * N[1] + dir[2] * N[2];
+  return dot > 1e-12 * std::sqrt(N[0] * N[0] + N[1] * N[1] + N[2] * N[2]);
 }
 
 double ColliderSet::clearance(std::size_t o, std::size_t t) const {
@@ -1953,8 +2036,13 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
   const auto respond_at = [&](double* fi, std::size_t o, const double p[3], double d, const double* nrm,
                               const double* tri, std::size_t stride) {
     double dd = d, dir[3];
-    if (tri != nullptr && d <= eps && detail::edge_contact(p, tri, stride, detail::PenaltyLoop::open(set, o), dd, dir))
-      return respond(fi, dd, dir);
+    TriangleRegion region;
+    if (tri != nullptr && d <= eps) {
+      const int edge = detail::edge_contact(p, tri, stride, detail::PenaltyLoop::open(set, o), dd, dir, region);
+      // (2: behind a face of a closed solid, beside an edge or corner: outside beside a sharp one)
+      if (edge == 1 || (edge == 2 && set.outside_at_feature(o, p, tri, stride, region, dir)))
+        return respond(fi, dd, dir);
+    }
     respond(fi, d, nrm);
   };
   // Everything but a certificate's common case, kept out of the loop.

@@ -99,34 +99,36 @@ inline double closest_sq(const double p[3], const double* b, double& s, bool& fa
 
 /// The penalty's distance and direction for an answer whose closest point Q is on an edge or a
 /// corner of the triangle (component k of its data at t[k * stride]): d = +|P - Q| and the
-/// direction (P - Q) / |P - Q|, the gradient of the distance to the surface there. Returns
-/// false (nothing set) over the face, where the face's plane gives both, when P is straight
-/// over or under Q (its foot on the triangle's border), when P is on Q, and, for a closed mesh
-/// (`open` false: every edge shared by two triangles), when P is behind the face's plane.
+/// direction (P - Q) / |P - Q|, the gradient of the distance to the surface there: returns 1.
+/// Returns 0 (nothing set) over the face, where the face's plane gives both, when P is
+/// straight over or under Q (its foot on the triangle's border), and when P is on Q. For a
+/// closed mesh (`open` false: every edge shared by two triangles) with P behind the face's
+/// plane it returns 2 with d, dir and `region` set: inside beside a reflex edge, outside
+/// beside a sharp ridge or tip; ColliderSet::outside_at_feature() tells which.
 /// So the push is the same whichever of the triangles that share the edge or corner won the
 /// tie (a cloth centred on a box drifted off the side whose face had the lower index), and
 /// beside the rim of an open mesh a point below its level is not "behind" it (pushed up by
 /// k_rep (eps + d), a force with no potential: a cloth draped over a plate gained energy).
-inline bool edge_contact(const double p[3], const double* t, std::size_t stride, bool open, double& d,
-                         double dir[3]) {
+inline int edge_contact(const double p[3], const double* t, std::size_t stride, bool open, double& d,
+                        double dir[3], TriangleRegion& region) {
   double s, v, w;
-  TriangleRegion region;
   const auto T = [t, stride](int k) { return t[static_cast<std::size_t>(k) * stride]; };
   const double d2 = closest_sq_impl(p, T, s, v, w, region);
   // Over the face, or on its border with P straight over or under Q (|P - Q| is the plane
   // distance: a point behind a floor under an edge between two of its triangles is behind it).
-  if (region == TriangleRegion::Face || !(d2 > 0.0) || !(d2 - s * s > 1e-9 * d2)) return false;
-  // Behind the face's plane, off its border: beside the rim of an open mesh (below a plate's
-  // level) this is no inside; in a closed solid it is (a point sunk near a reflex edge), and
-  // stays behind: pushed out along n as before.
-  if (!open && s < 0.0 && -s > 1e-6 * std::sqrt(d2)) return false;
+  if (region == TriangleRegion::Face || !(d2 > 0.0) || !(d2 - s * s > 1e-9 * d2)) return 0;
   double e[3];
   for (int k = 0; k < 3; ++k) e[k] = p[k] - (T(k) + v * T(3 + k) + w * T(6 + k));
   const double len = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-  if (!(len > 0.0)) return false;
+  if (!(len > 0.0)) return 0;
   d = std::sqrt(d2);
   for (int k = 0; k < 3; ++k) dir[k] = e[k] / len;
-  return true;
+  // Behind the face's plane, off its border: beside the rim of an open mesh (below a plate's
+  // level) this is no inside (1); in a closed solid it is inside beside a reflex edge (a point
+  // sunk there) but outside beside a sharp ridge or tip, where the plane of one face cuts
+  // through the space outside the other faces: the caller decides (2).
+  if (!open && s < 0.0 && -s > 1e-6 * d) return 2;
+  return 1;
 }
 
 /// The signed distance from d = |P - Q| and s = n.(P - A): behind (-d) only when P is behind

@@ -300,6 +300,14 @@ struct ColliderSet {
   std::size_t query_nearest(std::size_t o, const double p[3], double radius_sq, QueryMethod method,
                             std::size_t k, std::span<const std::uint32_t> seed,
                             std::uint32_t* slots, double* d2, double& others_lb) const;
+  /// A point p behind the plane of its answer's triangle (data t, component k at
+  /// t[k * stride]) of a closed object o, with its closest point Q on an edge or corner of it
+  /// (`region`; dir = (P - Q) / |P - Q|): whether p is outside the solid after all, beside a
+  /// sharp ridge or tip where one face's plane cuts through the space outside the others. By
+  /// the angle-weighted pseudonormal at Q. False when it cannot tell (an open or non-manifold
+  /// neighbourhood): then p stays behind, as before.
+  bool outside_at_feature(std::size_t o, const double p[3], const double* t, std::size_t stride,
+                          TriangleRegion region, const double dir[3]) const;
 
  private:
   struct Object {
@@ -317,6 +325,7 @@ struct ColliderSet {
     /// Axis-aligned box of its kept triangles, padded as bounds_min/max (empty: lo > hi).
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(1.0), hi = Eigen::Vector3d::Constant(-1.0);
     std::vector<std::int32_t> input_to_kept;   ///< input triangle -> kept slot, -1 if dropped
+    std::vector<std::uint32_t> weld;           ///< input vertex -> id of its position
   };
   std::uint32_t build_node(std::uint32_t begin, std::uint32_t end, std::vector<double>& cent,
                            std::vector<std::uint32_t>& perm, const std::vector<double>& corners,
