@@ -565,6 +565,50 @@ TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {
   EXPECT_EQ(j["finite"], false);
   EXPECT_LT(j["steps"].get<int>(), 2000);  // stopped at once, not after 1000 s
   EXPECT_GT(j["stable_dt_estimate"].get<double>(), 0.0);
+  // the report agrees with itself: the time of the steps that completed (it counted the
+  // failed one too), and no box around a non-finite state
+  EXPECT_DOUBLE_EQ(j["seconds_simulated"].get<double>(), j["steps"].get<int>() * 0.5);
+  EXPECT_EQ(j["failed_step"].get<int>(), j["steps"].get<int>() + 1);
+  EXPECT_TRUE(j["cloth_min"][1].is_null()) << j["cloth_min"];
+  // the start-up warning that it would blow up is shown under --quiet and listed
+  EXPECT_NE(r.output.find("warning: "), std::string::npos) << r.output;
+  ASSERT_FALSE(j["warnings"].empty());
+  EXPECT_NE(j["warnings"][0].get<std::string>().find("blow up"), std::string::npos) << j["warnings"];
+  // a step within the limits whose forces overflow is not blamed on the step
+  const Result big = run("--headless --quiet --gravity 1e307 --steps 3000");  // overflows at t = 18 s
+  EXPECT_EQ(big.code, 1) << big.output;
+  EXPECT_EQ(big.output.find("is above the stability limit"), std::string::npos) << big.output;
+  EXPECT_NE(big.output.find("a force too large for double precision"), std::string::npos) << big.output;
+}
+
+// An epsilon as large as the scene puts every mass deep in the floor's band: warned (the
+// cloth flew 100 m up without a word), also under --quiet, and listed in the report.
+TEST(Cli, MassesThrownOutOfTheBandAreWarned) {
+  const fs::path d = fresh_dir("band_launch");
+  const Result r = run("--headless --quiet --steps 2 --epsilon 3 --report " + q(d / "r.json"));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("start within the contact band of collider"), std::string::npos) << r.output;
+  const auto j = read_json(d / "r.json");
+  ASSERT_EQ(j["warnings"].size(), 1u) << j["warnings"];
+  EXPECT_NE(j["warnings"][0].get<std::string>().find("use a smaller --epsilon"), std::string::npos);
+  EXPECT_EQ(run("--headless --quiet --steps 2").output, "");  // the scene as baked: no warning
+}
+
+// The viewer's options without a viewer, and --fps without --frames, did nothing silently:
+// bad input, as --export-every without --export-obj is. A screenshot is a PNG whatever its
+// name said (a.jpg held PNG bytes): the name must say .png.
+TEST(Cli, ViewerOptionsThatWouldDoNothingAreBadInput) {
+  const fs::path d = fresh_dir("viewer_options");
+  for (const char* args : {"--headless --fps 10", "--headless --width 100", "--headless --height 100",
+                           "--headless --paused", "--headless --no-vsync", "--fps 10 --seconds 1"}) {
+    const Result r = run(std::string("--quiet --steps 5 --report ") + q(d / "r.json") + " " + args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+    EXPECT_EQ(lines(r.output), 1) << r.output;
+  }
+  const Result jpg = run("--seconds 0.1 --screenshot " + q(d / "a.jpg"));
+  EXPECT_EQ(jpg.code, 2) << jpg.output;
+  EXPECT_NE(jpg.output.find("name it *.png"), std::string::npos) << jpg.output;
+  EXPECT_TRUE(fs::is_empty(d));
 }
 
 #ifdef CLOTHSIM_WP_EXE

@@ -211,6 +211,36 @@ TEST(ColliderWarnings, MassesBehindAnOpenColliderAreNamed) {
   EXPECT_NE(w[0].find("Flip"), std::string::npos) << w[0];
 }
 
+// Masses that start deep in a collider's contact band are thrown off at once (the dice cloth
+// at --epsilon 3 flew 100 m up): warned when the push k_rep (eps - d) is over 10x their
+// weight. A mass at its resting depth (eps - m g / k_rep) or just inside the band is not.
+TEST(ColliderWarnings, MassesThrownOutOfTheContactBandAreNamed) {
+  auto set = std::make_shared<ColliderSet>();
+  Eigen::Matrix3Xd v(3, 4);
+  v << -1, 1, 1, -1, 0, 0, 0, 0, -1, -1, 1, 1;
+  set->add_object("Floor", v, std::vector<std::uint32_t>{0, 2, 1, 0, 3, 2});
+  set->build();
+  Model m;
+  m.options.epsilon = 0.1;
+  m.options.k_rep = 600.0;
+  const double rest = 0.1 - 0.1 * 9.81 / 600.0;  // eps - m g / k_rep
+  m.x0.resize(3, 5);
+  m.x0 << 0, 0.1, 0.2, 0.3, 0.4,  //
+      0.5, rest, 0.099, 0.05, 0.01,  //
+      0, 0, 0, 0, 0;
+  m.mass = Eigen::VectorXd::Constant(5, 0.1);
+  m.colliders = set;
+  const std::vector<std::string> w = collider_warnings(m);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("warning: 2 of 5 masses start within the contact band of collider 'Floor' (epsilon 0.1 m) and "
+                      "get up to 55 times their weight at once"),
+            std::string::npos)
+      << w[0];
+  const LaunchCount l = count_launched(*set, 0, m.x0, m.mass, 0.1, 600.0, 9.81, 10.0);
+  EXPECT_EQ(l.count, 2u);
+  EXPECT_NEAR(l.worst, 600.0 * 0.09 / 0.981, 1e-9);
+}
+
 TEST(ColliderWarnings, NoneForACleanSceneOrWithoutColliders) {
   Model m = model_with(kCube);
   m.x0.setConstant(3.0);  // every mass outside

@@ -28,6 +28,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <cctype>
 #include <filesystem>
 #include <iostream>
 #include <limits>
@@ -302,11 +303,13 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   auto* o_screenshot = app.add_option("--screenshot", screenshot, "Viewer: render at --seconds, write this PNG and exit");
   auto* o_frames = app.add_option("--frames", frames, "Viewer: write a PNG sequence into this directory up to --seconds");
   // The viewer's own limits (check_options), checked here so that they are bad input (exit 2).
-  app.add_option("--fps", fps, "Viewer: frames per simulated second for --frames (default 30)")->check(CLI::Range(1, 1000));
-  app.add_option("--width", width, "Viewer: window width (default 1280)")->check(CLI::Range(16, 8192));
-  app.add_option("--height", height, "Viewer: window height (default 720)")->check(CLI::Range(16, 8192));
-  app.add_flag("--no-vsync", no_vsync, "Viewer: do not wait for vertical sync");
-  app.add_flag("--paused", paused, "Viewer: start paused");
+  auto* o_fps = app.add_option("--fps", fps, "Viewer: frames per simulated second for --frames (default 30)")
+                    ->check(CLI::Range(1, 1000));
+  auto* o_width = app.add_option("--width", width, "Viewer: window width (default 1280)")->check(CLI::Range(16, 8192));
+  auto* o_height =
+      app.add_option("--height", height, "Viewer: window height (default 720)")->check(CLI::Range(16, 8192));
+  auto* o_no_vsync = app.add_flag("--no-vsync", no_vsync, "Viewer: do not wait for vertical sync");
+  auto* o_paused = app.add_flag("--paused", paused, "Viewer: start paused");
 
   // --help lists the built-in defaults next to this scene's baked values.
   std::ostringstream foot;
@@ -422,6 +425,18 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   // where the OBJ directory should be, is bad input found at once.
   if (o_export_every->count() && !o_export->count())
     return bad_input("--export-every needs --export-obj DIR (the OBJ files it paces)");
+  // The viewer's options do nothing without it: said, not ignored.
+  if (headless)
+    for (const CLI::Option* o : {o_screenshot, o_frames, o_fps, o_width, o_height, o_no_vsync, o_paused})
+      if (o->count())
+        return bad_input(o->get_name() + " is a viewer option, and --headless opens no viewer (drop one of them)");
+  if (o_fps->count() && !o_frames->count()) return bad_input("--fps needs --frames DIR (the frames it paces)");
+  if (o_screenshot->count()) {  // (a name without an extension, such as /dev/null, is written into)
+    std::string ext = std::filesystem::path(screenshot).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (!ext.empty() && ext != ".png")
+      return bad_input("--screenshot writes a PNG: name it *.png (got " + screenshot + ")");
+  }
   if (o_report->count())
     if (const std::string why = io::check_output_file(report); !why.empty()) return bad_input("--report: " + why);
   // Two outputs at one path: the first written would be lost to the second, or stop it.
@@ -507,12 +522,14 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   const TunnellingReport tunnel = check_tunnelling(model, plan.h);
   if (!quiet) {
     std::cerr << "clothsim: " << describe(stab, opts.integrator) << "\n";
-    if (!plan.message.empty())  // a warning says so itself; anything else is a note
-      std::cerr << "clothsim: " << (plan.message.rfind("warning: ", 0) == 0 ? "" : "note: ") << plan.message << "\n";
+    // a note (a warning is listed with the others below, also under --quiet)
+    if (!plan.message.empty() && plan.message.rfind("warning: ", 0) != 0)
+      std::cerr << "clothsim: note: " << plan.message << "\n";
   }
   // Every start-up warning, printed (also with --quiet) and listed in the report: tunnelling,
   // a closed collider whose faces point inwards, cloth masses that start inside a collider.
   std::vector<std::string> warnings;
+  if (plan.message.rfind("warning: ", 0) == 0) warnings.push_back(plan.message);  // a step above the safe one
   if (model.mass_count() == 0)
     warnings.push_back(std::string("warning: scene '") + (scene.name ? scene.name : "?") +
                        "' has no cloth: nothing moves (name the cloth objects in blender2ogl_add_scene's CLOTH, "
@@ -573,6 +590,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   std::uint64_t failed_step = 0;  // the step of dt (1-based) in which the state became non-finite
   std::uint64_t done = 0;         // steps of dt completed (each of plan.substeps substeps)
   std::uint64_t timed = 0;        // steps of dt timed (the failed one included)
+  double t_done = state.t;        // simulated time after the last completed step
   if (o_export->count())
     if (const std::string err = export_obj(export_path, scene, model, state, 0, opts.dt); !err.empty()) {
       std::cerr << "clothsim: error: --export-obj: " << err << "\n";
@@ -600,6 +618,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
       break;
     }
     done = i + 1;
+    t_done = state.t;
     if (o_export->count() && done % export_every == 0)
       if (const std::string err = export_obj(export_path, scene, model, state, done, opts.dt); !err.empty()) {
         progress.finish();
@@ -619,7 +638,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   const double ms_per_step =
       timed ? std::chrono::duration<double, std::milli>(step_time).count() / static_cast<double>(timed) : 0.0;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()), hi = lo;
-  if (model.mass_count() > 0) {
+  if (model.mass_count() > 0 && finite) {  // (a failed run's state is no box: null)
     lo = state.x.rowwise().minCoeff();
     hi = state.x.rowwise().maxCoeff();
   }
@@ -632,12 +651,22 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   const double reach = 2.0 * opts.epsilon;
   const bool past_eps = state.max_penetration > opts.epsilon;
 
-  if (!finite)
+  if (!finite) {
     std::cerr << "clothsim: error: the state became non-finite at step " << failed_step << " (t = " << state.t
-              << " s). Likely cause: the step h = " << plan.h << " s"
-              << (plan.substeps > 1 ? " (dt / " + std::to_string(plan.substeps) + " substeps)" : std::string())
-              << " is above the stability limit; the Gershgorin "
-              << "estimate 2/omega_max is " << stable_dt << " s (lower --dt, or soften --k-struct/--k-rep)\n";
+              << " s). Likely cause: ";
+    const std::string h = "the step h = " + fmt(plan.h) + " s" +
+                          (plan.substeps > 1 ? " (dt / " + std::to_string(plan.substeps) + " substeps)" : std::string());
+    // (dt_stable: the guard's limit for this integrator, from omega_max by Lanczos; the
+    // Gershgorin bound 2/omega_max is lower, and a step between the two is stable)
+    if (!(plan.h <= stab.dt_stable))
+      std::cerr << h << " is above the stability limit dt_stable = " << stab.dt_stable
+                << " s (the Gershgorin estimate 2/omega_max is " << stable_dt
+                << " s; lower --dt, let --substeps auto substep, or soften --k-struct/--k-rep)\n";
+    else
+      std::cerr << "a force too large for double precision: " << h << " is within the stability limit dt_stable = "
+                << stab.dt_stable << " s, so look at the sizes of the options (--gravity, --k-struct, --k-bend, "
+                << "--k-rep, --mass)\n";
+  }
 
   if (o_report->count()) {
     json r;
@@ -656,7 +685,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     r["integrator"] = to_string(opts.integrator);
     r["tunnelling_warning"] = tunnel.warn;
     r["warnings"] = warnings;
-    r["seconds_simulated"] = state.t;
+    r["seconds_simulated"] = t_done;  // (a failed run: up to the last step that completed)
     r["ms_per_step"] = ms_per_step;
     r["cpu_ms_per_step"] = timed ? cpu_ms / static_cast<double>(timed) : 0.0;  // includes --export-obj
     r["finite"] = finite;

@@ -324,13 +324,23 @@ std::string describe(const StabilityReport& r, Integrator method) {
   return buf;
 }
 
+namespace {
+std::string fmt_g(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g", v);
+  return b;
+}
+}  // namespace
+
 std::string never_stable_reason(const StabilityReport& r, Integrator method) {
   char buf[400];
   if (!std::isfinite(r.omega_max) || !std::isfinite(r.zeta))
     std::snprintf(buf, sizeof buf,
-                  "no step size is stable: omega_max (%.4g rad/s) or the damping rate (%.4g 1/s) "
-                  "overflows; the masses are too light for the springs and the damping",
-                  r.omega_max, r.zeta);
+                  "no step size is stable: %s overflows; the masses are too light for %s",
+                  !std::isfinite(r.omega_max) ? ("omega_max (" + fmt_g(r.omega_max) + " rad/s)").c_str()
+                                              : ("the damping rate (" + fmt_g(r.zeta) + " 1/s)").c_str(),
+                  !std::isfinite(r.omega_max) ? "the springs (--k-struct, --k-bend) or the contact (--k-rep)"
+                                              : "the damping");
   else if (r.zeta == 0.0)
     std::snprintf(buf, sizeof buf,
                   "%s is unstable at every step size without damping, and this model has none "

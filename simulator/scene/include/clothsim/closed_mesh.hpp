@@ -55,12 +55,24 @@ struct BehindCount {
 };
 BehindCount count_behind(const ColliderSet& set, std::size_t o, const Eigen::Matrix3Xd& points, double eps);
 
+/// Masses of `points` in front of collider object o within its contact band (0 <= d < eps)
+/// that its penalty pushes at once by more than `times` their weight: k_rep (eps - d) >
+/// times m_i |g| (`mass` per point; a mass at rest sits at eps - m g / k_rep). `worst`: the
+/// largest such push over the weight.
+struct LaunchCount {
+  std::size_t count = 0;
+  double worst = 0.0;
+};
+LaunchCount count_launched(const ColliderSet& set, std::size_t o, const Eigen::Matrix3Xd& points,
+                           const Eigen::VectorXd& mass, double eps, double k_rep, double gravity, double times);
+
 /// The start-up warnings about a model's colliders, one line each, "warning: ...": per
 /// collider object, closed parts whose faces point inwards (negative signed volume) or both
 /// ways (b2o::solid_parts(), as the bake warns), and, for an object that is a closed solid,
 /// the cloth masses (at x0) that start inside it (skipped silently above the work budget);
-/// for an open collider, the masses that start behind its faces (count_behind()).
-/// Empty without colliders.
+/// for an open collider, the masses that start behind its faces (count_behind()); for any
+/// collider, masses that start so deep in its contact band that it throws them (more than 10x
+/// their weight: count_launched()). Empty without colliders.
 std::vector<std::string> collider_warnings(const Model& model, double work_budget = kInsideWorkBudget);
 
 }  // namespace clothsim
