@@ -56,6 +56,9 @@ struct StabilityReport {
   double omega_max = 0.0;       ///< rad/s, used for the limits: sqrt(springs^2 + contact^2) (Weyl)
   double zeta = 0.0;            ///< 1/s, damping rate gamma / (2 m_max) (the weakest)
   double dt_stable = 0.0;       ///< s, the limit for model.options.integrator
+  /// dt_stable is the contact's limit 1 / (0.9 omega_contact): the penalty is explicit in every
+  /// integrator and gains energy per bounce as h omega_contact nears 2
+  bool contact_limited = false;
   double dt_stable_symplectic = 0.0;  ///< s, 2 / omega_max (the seed's method)
 };
 /// `lanczos_iterations`: the cap of omega_max_lanczos(); without convergence within it the
