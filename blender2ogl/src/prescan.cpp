@@ -374,6 +374,12 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       const std::size_t a = name.find_first_not_of(" \t\r\f\v"), b = name.find_last_not_of(" \t\r\f\v");
       name = a == std::string::npos ? std::string() : name.substr(a, b - a + 1);
       if (!name.empty()) scan.usemtl.emplace_back(name, start_line);
+    } else if (key == "lod") {
+      // A display attribute (level of detail) nothing here uses; assimp 5.2.5 took it for an
+      // `l` line and failed ("bad vertex index", no line): it gets the line blank.
+      const std::size_t at = static_cast<std::size_t>(line.data() - text.data());
+      if (continued) fail(file, start_line, "'lod' on a continued line ('\\' at the end) is not supported");
+      cuts.push_back({at, line.size() - (!line.empty() && line.back() == '\r' ? 1 : 0), {}});
     } else if (is_freeform(key)) {
       // Freeform geometry (Blender's "Curves as NURBS"): assimp does not read it, and misread
       // what follows (a face after `cstype` was lost, `curv` failed without a line). It has
