@@ -61,6 +61,18 @@ TEST(OutputFile, NewFileIsWrittenWithNoTemporaryLeft) {
   EXPECT_EQ(fs::status(d / "r.json").permissions(), static_cast<fs::perms>(0666 & ~mask));
 }
 
+// A folder where the permission bits say "writable" but no file can be made (/proc, as
+// root): refused before the run (it failed after the whole run), and the check leaves nothing
+// behind where it can write.
+TEST(OutputFile, AFolderWhereNoFileCanBeMadeIsRefusedBeforeTheRun) {
+  if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
+  const std::string why = check_output_file("/proc/r.json");
+  EXPECT_NE(why.find("cannot write '/proc/r.json'"), std::string::npos) << why;
+  const fs::path d = fresh_dir("probe");
+  EXPECT_EQ(check_output_file((d / "r.json").string()), "");
+  EXPECT_EQ(entries(d), 0);
+}
+
 TEST(OutputFile, RegularFileIsReplacedAndKeepsItsPermissions) {
   const fs::path d = fresh_dir("replace");
   spit(d / "r.json", "old contents, longer than the new ones\n");

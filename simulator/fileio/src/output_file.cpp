@@ -63,7 +63,19 @@ std::string check_writable_dir(const std::string& dir) {
 
 // Empty, or why `path` cannot be created in `dir` (a temporary file goes there too).
 std::string in_writable_dir(const std::string& path, const std::string& dir) {
-  const std::string why = check_writable_dir(dir);
+  std::string why = check_writable_dir(dir);
+  if (why.empty()) {
+    // The permission bits can say yes where no file can be made (/proc, some mounts, as
+    // root): one is made and removed, so that the run does not fail only at its end.
+    std::string probe = (dir.empty() ? std::string(".") : dir) + "/.clothsim-write-test-XXXXXX";
+    const int fd = ::mkstemp(probe.data());
+    if (fd < 0) {
+      why = "cannot create a file in " + quote(dir.empty() ? "." : dir) + " (" + error_text(errno) + ")";
+    } else {
+      ::close(fd);
+      ::unlink(probe.c_str());
+    }
+  }
   return why.empty() ? why : "cannot write " + quote(path) + ": " + why;
 }
 
