@@ -180,6 +180,29 @@ TEST(ViewerProbe, FramesWritesTheWholeSequence) {
   EXPECT_GT(fraction_different(load(dir / "frame_00000.png"), load(dir / "frame_00005.png")), 0.01);
 }
 
+// Ctrl-C during a long --frames run: it stops after the frame in progress, says how many
+// frames it wrote, each a whole PNG, and exits 130 (it was killed by the signal, silently).
+// The signal is sent once the third frame exists (the shell waits for the file).
+TEST(ViewerProbe, InterruptedFramesRunSaysSoAndLeavesWholeFrames) {
+  if (g_programs.empty()) GTEST_SKIP() << "no scene program built";
+  const fs::path dir = out("interrupted_frames");
+  const std::string prog = q(g_programs.front().second);
+  const Result r = run("( " + prog + " --width 160 --height 90 --fps 10 --seconds 600 --frames " + q(dir) +
+                       " & pid=$!; while [ ! -e " + q(dir / "frame_00002.png") +
+                       " ] && kill -0 $pid 2>/dev/null; do sleep 0.05; done; kill -INT $pid; wait $pid; "
+                       "echo exit=$? )");
+  EXPECT_NE(r.output.find("exit=130"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("clothsim: interrupted at t = "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("frames written (each whole)"), std::string::npos) << r.output;
+  long n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    ASSERT_TRUE(load(e.path()).ok()) << e.path();
+    ++n;
+  }
+  EXPECT_GE(n, 3);
+  EXPECT_LT(n, 6001);
+}
+
 TEST(ViewerProbe, BadInputGivesOneLineErrorAndNoFile) {
   const Result no_seconds = run(q(g_probe) + " --frames " + q(out("never")));
   EXPECT_EQ(no_seconds.code, 1);

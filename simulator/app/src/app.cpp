@@ -462,12 +462,10 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     return bad_input("--report and --export-obj belong to headless runs: add --headless");
 #endif
 
-  std::optional<CatchInterrupt> catch_interrupt;  // headless runs only: Ctrl-C ends the viewer
-#ifdef CLOTHSIM_HAVE_VIEWER
-  if (headless) catch_interrupt.emplace();
-#else
+  // Ctrl-C or SIGTERM: the run stops after the step in progress, says so, writes what it
+  // writes (a headless report; the viewer's whole PNGs) and exits 130.
+  std::optional<CatchInterrupt> catch_interrupt;
   catch_interrupt.emplace();
-#endif
   Model model;
   try {
     model = build_model(scene, opts);
@@ -551,6 +549,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     vo.fps = fps;
     vo.substeps = plan.substeps;
     vo.auto_threads = chooser.has_value();
+    vo.interrupted = &g_interrupted;
     // the time of the whole steps that cover --seconds, as a headless run takes (the viewer
     // rounds its own count to the nearest step)
     if (o_seconds->count()) vo.seconds = steps_covering(seconds, opts.dt) * opts.dt;

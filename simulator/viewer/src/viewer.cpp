@@ -125,9 +125,12 @@ class Viewer {
 
  private:
   // --- offscreen: --screenshot / --frames ----------------------------------------------
+  bool stop_asked() const { return opt_.interrupted != nullptr && *opt_.interrupted != 0; }
+
   bool advance_to(double t) {
     const double dt = model_.options.dt;
     while (state_.t < t - 0.5 * dt) {
+      if (stop_asked()) return false;
       if (!timed_step().finite) {
         std::fprintf(stderr, "clothsim: the simulation became non-finite at t = %.3f s (%s); "
                      "no picture written (try a smaller --dt)\n", state_.t,
@@ -150,9 +153,15 @@ class Viewer {
     return true;
   }
 
+  int interrupted_offscreen(const char* what) const {
+    std::fprintf(stderr, "clothsim: interrupted at t = %.3f s; %s\n", state_.t, what);
+    return kInterrupted;
+  }
+
   int run_offscreen() {
     if (!opt_.screenshot.empty()) {
-      if (!advance_to(std::max(opt_.seconds, 0.0))) return 1;
+      if (!advance_to(std::max(opt_.seconds, 0.0)))
+        return stop_asked() ? interrupted_offscreen("no picture written") : 1;
       if (!render_to_png(opt_.screenshot)) return 1;
     }
     if (!opt_.frames_dir.empty()) {
@@ -166,7 +175,12 @@ class Viewer {
       state_ = make_state(model_);
       const long frames = static_cast<long>(std::floor(opt_.seconds * opt_.fps + 1e-9)) + 1;
       for (long i = 0; i < frames; ++i) {
-        if (!advance_to(static_cast<double>(i) / opt_.fps)) return 1;
+        if (!advance_to(static_cast<double>(i) / opt_.fps) || stop_asked()) {
+          if (!stop_asked()) return 1;
+          const std::string done = std::to_string(i) + " of " + std::to_string(frames) +
+                                   " frames written (each whole)";
+          return interrupted_offscreen(done.c_str());
+        }
         char name[32];
         std::snprintf(name, sizeof name, "frame_%05ld.png", i);
         if (!render_to_png((std::filesystem::path(opt_.frames_dir) / name).string())) return 1;
@@ -216,6 +230,10 @@ class Viewer {
     update_title(view::StepRates{});
     while (!glfwWindowShouldClose(window_)) {
       glfwPollEvents();
+      if (stop_asked()) {
+        interrupted_ = true;
+        break;
+      }
       const auto now = Clock::now();
       const double elapsed = std::chrono::duration<double>(now - last).count();
       if (!paused_) run_wall += elapsed;
@@ -326,6 +344,11 @@ class Viewer {
                 state_.t, static_cast<unsigned long long>(steps_done), of_sub.c_str(),
                 rates.ms_per_step, rates.realtime, run_wall, pace, frames, wall, per_frame, thread_note,
                 non_finite_ ? " (state non-finite)" : "");
+    if (interrupted_) {
+      std::fflush(stdout);
+      std::fprintf(stderr, "clothsim: interrupted at t = %.3f s\n", state_.t);
+      return kInterrupted;
+    }
     return non_finite_ ? 1 : 0;
   }
 
@@ -500,7 +523,8 @@ class Viewer {
   std::optional<ThreadChooser> chooser_;  ///< --threads auto
   double drag_reach_ = std::numeric_limits<double>::infinity();
   bool stats_reset_ = false;  ///< R was pressed: the title's rates start again
-  bool paused_ = false, non_finite_ = false;
+  bool paused_ = false, non_finite_ = false, interrupted_ = false;
+  static constexpr int kInterrupted = 130;  ///< as a shell reports Ctrl-C
   long pending_steps_ = 0;
   bool wireframe_ = false, show_springs_ = false, screenshot_request_ = false;
   bool dragging_ = false;

@@ -2,6 +2,7 @@
 // it contains no physics of its own.
 #pragma once
 
+#include <csignal>
 #include <string>
 
 namespace b2o { struct Scene; }
@@ -31,6 +32,9 @@ struct ViewerOptions {
   /// --threads auto: step with one thread or all cores, whichever a ThreadChooser measures
   /// faster (thread_choice.hpp); false: the count set_threads() set.
   bool auto_threads = false;
+  /// Set (non-zero) by the caller's SIGINT/SIGTERM handler: the viewer stops at the next frame
+  /// or step, says so, and run_viewer() returns 130. Null: the signals end the process.
+  const volatile std::sig_atomic_t* interrupted = nullptr;
 };
 
 /// The flat cloth colour of ViewerOptions::flat_cloth (8-bit RGB), for tests that look for it.
