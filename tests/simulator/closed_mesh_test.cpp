@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "floor_collider.hpp"
+
 #include <memory>
 #include <vector>
 
@@ -215,11 +217,7 @@ TEST(ColliderWarnings, MassesBehindAnOpenColliderAreNamed) {
 // at --epsilon 3 flew 100 m up): warned when the push k_rep (eps - d) is over 10x their
 // weight. A mass at its resting depth (eps - m g / k_rep) or just inside the band is not.
 TEST(ColliderWarnings, MassesThrownOutOfTheContactBandAreNamed) {
-  auto set = std::make_shared<ColliderSet>();
-  Eigen::Matrix3Xd v(3, 4);
-  v << -1, 1, 1, -1, 0, 0, 0, 0, -1, -1, 1, 1;
-  set->add_object("Floor", v, std::vector<std::uint32_t>{0, 2, 1, 0, 3, 2});
-  set->build();
+  const std::shared_ptr<ColliderSet> set = test::floor_collider();  // y = 0, normals up
   Model m;
   m.options.epsilon = 0.1;
   m.options.k_rep = 600.0;
@@ -232,7 +230,7 @@ TEST(ColliderWarnings, MassesThrownOutOfTheContactBandAreNamed) {
   m.colliders = set;
   const std::vector<std::string> w = collider_warnings(m);
   ASSERT_EQ(w.size(), 1u);
-  EXPECT_NE(w[0].find("warning: 2 of 5 masses start within the contact band of collider 'Floor' (epsilon 0.1 m) and "
+  EXPECT_NE(w[0].find("warning: 2 of 5 masses start within the contact band of collider 'floor' (epsilon 0.1 m) and "
                       "get up to 55 times their weight at once"),
             std::string::npos)
       << w[0];

@@ -7,11 +7,12 @@
 
 #include "../../simulator/viewer/src/gl_scene.hpp"
 
+#include <clothsim/view/camera.hpp>
+
 #include <clothsim/scene.hpp>
 #include <clothsim/sim.hpp>
 #include <clothsim/step.hpp>
 
-#include <Eigen/Geometry>
 #include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
 
@@ -27,39 +28,17 @@ using clothsim::testing::HandScene;
 
 constexpr int kW = 320, kH = 180;
 
-Eigen::Matrix4f look_at(const Eigen::Vector3f& eye, const Eigen::Vector3f& at, const Eigen::Vector3f& up) {
-  const Eigen::Vector3f f = (at - eye).normalized(), s = f.cross(up).normalized(), u = s.cross(f);
-  Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
-  m.block<1, 3>(0, 0) = s.transpose();
-  m.block<1, 3>(1, 0) = u.transpose();
-  m.block<1, 3>(2, 0) = -f.transpose();
-  m(0, 3) = -s.dot(eye);
-  m(1, 3) = -u.dot(eye);
-  m(2, 3) = f.dot(eye);
-  return m;
-}
-
-Eigen::Matrix4f perspective(float fovy, float aspect, float near, float far) {
-  const float t = 1.0f / std::tan(0.5f * fovy);
-  Eigen::Matrix4f m = Eigen::Matrix4f::Zero();
-  m(0, 0) = t / aspect;
-  m(1, 1) = t;
-  m(2, 2) = (far + near) / (near - far);
-  m(2, 3) = 2.0f * far * near / (near - far);
-  m(3, 2) = -1.0f;
-  return m;
-}
-
 struct View {
   Eigen::Matrix4f view_proj;
   Eigen::Vector3d eye;
 };
 
-View view_from(const Eigen::Vector3f& eye, int w = kW, int h = kH,
-               const Eigen::Vector3f& at = Eigen::Vector3f(0.0f, 0.6f, 0.0f)) {
-  return {perspective(1.0f, static_cast<float>(w) / static_cast<float>(h), 0.05f, 50.0f) *
-              look_at(eye, at, Eigen::Vector3f::UnitY()),
-          eye.cast<double>()};
+// The viewer's own orbit camera around the cloth's middle: yaw, pitch (> 0: from above).
+View view_from(double yaw, double pitch, double distance, int w = kW, int h = kH, double fovy = 0.9) {
+  clothsim::view::OrbitCamera cam;
+  cam.target = Eigen::Vector3d(0.0, 0.6, 0.0);
+  cam.yaw = yaw, cam.pitch = pitch, cam.distance = distance, cam.fovy = fovy;
+  return {cam.projection(static_cast<double>(w) / h) * cam.view(), cam.eye()};
 }
 
 class StaticLayer : public ::testing::Test {
@@ -147,7 +126,7 @@ class StaticLayer : public ::testing::Test {
 GLFWwindow* StaticLayer::window_ = nullptr;
 
 TEST_F(StaticLayer, FramesFromTheLayerAreTheFullDrawsPixels) {
-  const View above = view_from({1.4f, 2.4f, 2.0f});
+  const View above = view_from(0.6, 0.7, 2.6);
   const auto full = frame(above, false);
   const auto first = frame(above, true);   // draws the layer, then copies it
   const auto second = frame(above, true);  // copies it only
@@ -164,7 +143,7 @@ TEST_F(StaticLayer, FramesFromTheLayerAreTheFullDrawsPixels) {
 TEST_F(StaticLayer, TheLayersDepthHidesTheClothBehindTheFloor) {
   // From below the floor, the floor (drawn two-sided) hides the cloth above it: only the
   // copied depth can say so.
-  const View below = view_from({0.4f, -2.5f, 1.0f});
+  const View below = view_from(0.3, -1.2, 3.5);
   clothsim::view::RenderFlags hide;
   hide.hide_cloth = true;
   const auto without_cloth = frame(below, false, hide);
@@ -177,7 +156,7 @@ TEST_F(StaticLayer, TheLayersDepthHidesTheClothBehindTheFloor) {
 }
 
 TEST_F(StaticLayer, ANewCameraDrawsTheLayerAgain) {
-  const View a = view_from({1.4f, 2.4f, 2.0f}), b = view_from({-3.0f, 1.5f, 2.0f});
+  const View a = view_from(0.6, 0.7, 2.6), b = view_from(-2.0, 0.4, 3.0);
   frame(a, true);
   const auto moved = frame(b, true);
   EXPECT_EQ(gpu_->static_redraws(), 2u);
@@ -188,7 +167,7 @@ TEST_F(StaticLayer, ANewCameraDrawsTheLayerAgain) {
   frame(c, true);
   EXPECT_EQ(gpu_->static_redraws(), 3u);
   // the same eye looking elsewhere
-  View d = view_from({-3.0f, 1.5f, 2.0f}, kW, kH, Eigen::Vector3f(0.5f, 0.0f, 0.0f));
+  View d = view_from(-2.0, 0.4, 3.0, kW, kH, 0.6);  // a narrower lens
   d.eye = c.eye;
   const auto turned = frame(d, true);
   EXPECT_EQ(gpu_->static_redraws(), 4u);
@@ -196,7 +175,7 @@ TEST_F(StaticLayer, ANewCameraDrawsTheLayerAgain) {
 }
 
 TEST_F(StaticLayer, TheClothMovesOverAnUnchangedLayer) {
-  const View above = view_from({1.4f, 2.4f, 2.0f});
+  const View above = view_from(0.6, 0.7, 2.6);
   const auto before = frame(above, true);
   for (int i = 0; i < 300; ++i) ASSERT_TRUE(clothsim::step(*model_, *state_, *ws_).finite);
   gpu_->upload_state(hand_->scene, *model_, *state_, true);
@@ -207,7 +186,7 @@ TEST_F(StaticLayer, TheClothMovesOverAnUnchangedLayer) {
 }
 
 TEST_F(StaticLayer, WireframeAndSizeChangesDrawTheLayerAgain) {
-  const View above = view_from({1.4f, 2.4f, 2.0f});
+  const View above = view_from(0.6, 0.7, 2.6);
   clothsim::view::RenderFlags wire;
   wire.wireframe = true;
   frame(above, true);
@@ -216,7 +195,7 @@ TEST_F(StaticLayer, WireframeAndSizeChangesDrawTheLayerAgain) {
   EXPECT_EQ(differing(cached_wire, frame(above, false, wire)), 0);
 
   ASSERT_TRUE(gpu_->target.resize(200, 120));  // a part of the window
-  const View small = view_from({1.4f, 2.4f, 2.0f}, 200, 120);
+  const View small = view_from(0.6, 0.7, 2.6, 200, 120);
   const auto cached_small = frame(small, true);
   EXPECT_EQ(cached_small.size(), 200u * 120u * 3u);
   EXPECT_EQ(gpu_->static_redraws(), 3u);
