@@ -122,10 +122,16 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   std::string joined;
   std::vector<std::string_view> tok;
   std::size_t freeform = 0, freeform_line = 0;  // freeform statements cut, the first one's line
+  // Per object name: the vertices written under it, whether a face uses one of them, and its
+  // first line (an object of loose vertices is left out by assimp: warned below). Faces may
+  // come under another name than their vertices (Blender's Material Groups: `o Cube`, then
+  // `g Cube_Cube_Material` with the faces).
   struct Made {
-    std::size_t vertices = 0, faces = 0, line = 0;
+    std::size_t vertices = 0, line = 0;
+    bool used = false;
   };
-  std::map<std::string, Made> made;  // per object name: what it wrote, and its first line
+  std::map<std::string, Made> made;
+  std::vector<Made*> vertex_object;  // per `v`: the object it was written under (null: none)
   while (!rest.empty()) {
     ++line_no;
     const std::size_t start_line = line_no;
@@ -228,7 +234,9 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       count_in({3, 4, 6}, "3 coordinates (x y z), 4 (x y z w) or 6 (x y z r g b)");
       if (tok.size() == 5 && std::strtod(std::string(tok[4]).c_str(), nullptr) == 0.0) fail(file, start_line, "'v' with w = 0 (a point at infinity)");
       ++scan.positions;
-      if (!current_group.empty()) ++made[current_group].vertices;
+      Made* under = current_group.empty() ? nullptr : &made[current_group];
+      if (under) ++under->vertices;
+      vertex_object.push_back(under);
       if (in_pin_object) {
         // (the values are only parsed here: pin points need them, nothing else does)
         double xyz[3];
@@ -271,6 +279,10 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
             if ((!field.empty() && field[0] == '+') || !parse_int(field, idx) || idx == 0)
               fail(file, start_line, "malformed vertex reference " + quote_input(ref));
             const long long n = static_cast<long long>(count);
+            if (part == 0 && key != "l" && key != "p" && idx <= n && idx >= -n) {
+              Made* of = vertex_object[static_cast<std::size_t>(idx > 0 ? idx - 1 : n + idx)];
+              if (of) of->used = true;
+            }
             if (idx > n || idx < -n)
               fail(file, start_line, std::string(part == 0 ? "vertex" : part == 1 ? "texture coordinate" : "normal") +
                                          " index " + std::to_string(idx) + " out of range (" + std::to_string(count) +
@@ -288,7 +300,6 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       }
       if (face && owner != intended) throw InputError(misplaced);
       if (face) ++scan.faces; else ++scan.lines_points;
-      if (face && !current_group.empty()) ++made[current_group].faces;
     } else if (key == "o" || key == "g") {
       ++scan.groups;
       // The name as the file writes it: the rest of the line, spaces inside kept (Blender
@@ -399,7 +410,8 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       // assimp opens the rest of the line as it is: trailing spaces or a comment lost the
       // library (a default grey material, no warning); it is given the name alone
       if (!continued && !name.empty()) {
-        const std::size_t at = static_cast<std::size_t>(body.find(name) + (body.data() - text.data()));
+        const std::size_t at =
+            static_cast<std::size_t>(body.find(name, body.find("mtllib") + 6) + (body.data() - text.data()));
         std::size_t to = static_cast<std::size_t>(line.data() + line.size() - text.data());
         if (!line.empty() && line.back() == '\r') --to;
         if (to > at + name.size()) cuts.push_back({at + name.size(), to - at - name.size(), {}});
@@ -411,11 +423,11 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   // Objects of loose vertices (no faces): assimp drops them. A pin helper is read above by
   // its name; any other one is left out, which the user is told.
   for (const auto& [name, m] : made)
-    if (m.vertices > 0 && m.faces == 0 && !is_pin_object_name(name)) {
+    if (m.vertices > 0 && !m.used && !is_pin_object_name(name)) {
       const bool pin_like = name.find("_pins") != std::string::npos || name.find(".pins") != std::string::npos;
       scan.warnings.push_back(
           file.string() + ":" + std::to_string(m.line) + ": object " + quote_input(name) + " has " +
-          std::to_string(m.vertices) + " vertices and no faces: left out (only faces are drawn)" +
+          std::to_string(m.vertices) + " vertices and no face uses them: left out (only faces are drawn)" +
           (pin_like ? std::string("; a pin helper is found by the exact name '<cloth>_pins' (Blender's legacy "
                                   "exporter writes 'Object_Mesh': give the mesh data the object's name, or use "
                                   "Blender 3.3's exporter)")
@@ -521,9 +533,12 @@ MtlScan prescan_mtl_file(const std::filesystem::path& file, const std::filesyste
         else if (option == "-blendu" || option == "-blendv" || option == "-cc" || option == "-clamp" ||
                  option == "-imfchan" || option == "-type")
           word = true;
+        else if (k + 1 == tok.size())
+          break;  // the last word: a file name that starts with '-' (given to assimp as ./-name)
         else
           fail(file, line_no, "unknown map_Kd option " + quote_input(option) +
-                                  " (known: -s -o -t -mm -bm -boost -texres -blendu -blendv -cc -clamp -imfchan -type)");
+                                  " (known: -s -o -t -mm -bm -boost -texres -blendu -blendv -cc -clamp -imfchan "
+                                  "-type; a file name starting with '-' is written ./" + option + ")");
         ++k;
         if (word) {
           if (k >= tok.size()) fail(file, line_no, "map_Kd option " + quote_input(option) + " needs a value");
@@ -543,6 +558,7 @@ MtlScan prescan_mtl_file(const std::filesystem::path& file, const std::filesyste
       if (k >= tok.size()) fail(file, line_no, "map_Kd without a file name");
       std::string name = line.substr(static_cast<std::size_t>(tok[k].data() - line.data()));
       while (!name.empty() && (name.back() == ' ' || name.back() == '\t' || name.back() == '\r')) name.pop_back();
+      if (name[0] == '-') name = "./" + name;  // (assimp would take it for an option)
       // A relative name is relative to this .mtl: from another folder than the model's it is
       // given as relative to the model's folder, which the import reads textures from.
       std::string rel = name;
@@ -553,10 +569,12 @@ MtlScan prescan_mtl_file(const std::filesystem::path& file, const std::filesyste
           !std::filesystem::equivalent(mtl_folder.empty() ? "." : mtl_folder,
                                        model_folder.empty() ? "." : model_folder, ec) &&
           std::filesystem::is_regular_file(mtl_folder / rel, ec)) {
-        const std::filesystem::path from_model =
-            std::filesystem::absolute(mtl_folder / rel).lexically_normal().lexically_relative(
-                std::filesystem::absolute(model_folder).lexically_normal());
-        if (!from_model.empty()) name = from_model.generic_string();
+        // the .mtl's folder as the mtllib line names it from the model's folder, '..' and all
+        // (normalised as text, 'link/..' through a symbolic link would be another folder)
+        const std::filesystem::path prefix = file.lexically_relative(model_folder).parent_path();
+        const std::filesystem::path from_model = prefix / rel;
+        if (!prefix.empty() && std::filesystem::is_regular_file(model_folder / from_model, ec))
+          name = from_model.generic_string();
       }
       if (transformed)
         scan.warnings.push_back(where + "the texture's scale, offset or turbulence (-s, -o, -t) are not drawn: " +
@@ -568,13 +586,16 @@ MtlScan prescan_mtl_file(const std::filesystem::path& file, const std::filesyste
     // Statements the converter does not read are not given to assimp: they are ignored as
     // they would be, and cannot fail it (assimp 5.2.5 stopped on Blender 4's `aniso` with
     // "Cannot parse string \"niso\"", naming no file).
-    if (!(key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf" || key == "Ns" || key == "d" ||
-          key == "Tr" || key == "Ni")) {
+    // (as assimp reads them: K and N in either case, the second letter as written)
+    std::string canon(key);
+    if (canon.size() == 2 && (canon[0] == 'k' || canon[0] == 'n')) canon[0] = static_cast<char>(canon[0] - 'a' + 'A');
+    if (!(canon == "Ka" || canon == "Kd" || canon == "Ks" || canon == "Ke" || canon == "Tf" || canon == "Ns" ||
+          canon == "d" || canon == "Tr" || canon == "Ni")) {
       replace_line("");
       continue;
     }
-    const bool color = key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf";
-    if (color || key == "Ns" || key == "d" || key == "Tr" || key == "Ni") {
+    const bool color = canon == "Ka" || canon == "Kd" || canon == "Ks" || canon == "Ke" || canon == "Tf";
+    {
       for (std::size_t k = 1; k < tok.size(); ++k) {
         double v = 0;
         if (tok[k][0] == '#') {

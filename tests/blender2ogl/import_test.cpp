@@ -405,6 +405,39 @@ TEST(Import, ExportsAssimpMisreadAreReadAsWritten) {
   expect_input_error([&] { import_scene(dir / "lib.obj", false); }, "m.mtl:3: texture 'lost.png' of material 'Red' not found");
 }
 
+// What the first fixes of these must not break (a review's cases): lowercase kd / ns (assimp
+// reads K and N in either case), a library named like a piece of the word "mtllib", a texture
+// file name that starts with '-', Blender's Material Groups (faces under another name than
+// their vertices: no "left out" warning), and a library under a symbolic link whose texture
+// path goes up through it.
+TEST(Import, WhatTheMisreadFixesKeep) {
+  const auto dir = scratch("import_keep");
+  const std::string png = read_file(fixture("checker.png"));
+  write_file(dir / "lib", "newmtl Red\nkd 1 0 0\nns 50\nmap_Kd -tex.png\n");
+  write_file(dir / "-tex.png", png);
+  write_file(dir / "m.obj", "mtllib lib\no Cube\nv 0 0 0\nv 1 0 0\nv 0 0 1\nv 1 0 1\n"
+                            "g Cube_Cube_Material\nusemtl Red\nf 1 2 3\nf 2 4 3\n");
+  auto s = import_scene(dir / "m.obj", false);
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+  ASSERT_EQ(s.materials.size(), 1u);
+  EXPECT_EQ(s.materials[0].diffuse[0], 1.0f);
+  EXPECT_EQ(s.materials[0].diffuse[1], 0.0f);
+  EXPECT_EQ(s.materials[0].shininess, 50.0f);
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.textures[0].name, "./-tex.png");
+  // model/link -> ../shared/mats; the .mtl there names ../tex/b.png, next to the real folder
+  const auto root = scratch("import_symlink");
+  write_file(root / "shared" / "mats" / "s.mtl", "newmtl B\nKd 1 1 1\nmap_Kd ../tex/b.png\n");
+  write_file(root / "shared" / "tex" / "b.png", png);
+  std::filesystem::create_directories(root / "model");
+  std::filesystem::create_directory_symlink("../shared/mats", root / "model" / "link");
+  write_file(root / "model" / "m.obj", "mtllib link/s.mtl\no A\nv 0 0 0\nv 1 0 0\nv 0 0 1\nusemtl B\nf 1 2 3\n");
+  s = import_scene(root / "model" / "m.obj", false);
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.textures[0].name, "link/../tex/b.png");
+  EXPECT_EQ(s.textures[0].bytes.size(), png.size());
+}
+
 // Two libraries in two folders naming a texture of the same name: each material gets the
 // one next to its .mtl (both got the first folder's).
 TEST(Import, TexturesAreRelativeToTheirOwnMtl) {
@@ -437,7 +470,7 @@ TEST(Import, DroppedAndCutObjectsAreWarned) {
   const auto s = import_scene(dir / "m.obj", false);
   ASSERT_EQ(s.warnings.size(), 2u);
   const std::string all = s.warnings[0] + "\n" + s.warnings[1];
-  EXPECT_NE(all.find("m.obj:6: object 'Cloth_pins_Plane.001' has 2 vertices and no faces: left out"),
+  EXPECT_NE(all.find("m.obj:6: object 'Cloth_pins_Plane.001' has 2 vertices and no face uses them: left out"),
             std::string::npos) << all;
   EXPECT_NE(all.find("a pin helper is found by the exact name '<cloth>_pins'"), std::string::npos) << all;
   EXPECT_NE(all.find("m.obj:9: object name read as 'Flag': '#1' is a comment in OBJ"), std::string::npos) << all;

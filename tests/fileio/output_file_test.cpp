@@ -68,8 +68,11 @@ TEST(OutputFile, AFolderWhereNoFileCanBeMadeIsRefusedBeforeTheRun) {
   if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
   const std::string why = check_output_file("/proc/r.json");
   EXPECT_NE(why.find("cannot write '/proc/r.json'"), std::string::npos) << why;
+  EXPECT_NE(check_output_dir("/proc/frames").find("cannot create a file in '/proc'"), std::string::npos)
+      << check_output_dir("/proc/frames");
   const fs::path d = fresh_dir("probe");
   EXPECT_EQ(check_output_file((d / "r.json").string()), "");
+  EXPECT_EQ(check_output_dir((d / "frames").string()), "");
   EXPECT_EQ(entries(d), 0);
 }
 

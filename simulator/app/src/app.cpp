@@ -550,6 +550,10 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     vo.substeps = plan.substeps;
     vo.auto_threads = chooser.has_value();
     vo.interrupted = &g_interrupted;
+    if (g_interrupted) {  // during the start-up (a large model's stability check): no window
+      std::cerr << "clothsim: interrupted before the window opened\n";
+      return kExitInterrupted;
+    }
     // the time of the whole steps that cover --seconds, as a headless run takes (the viewer
     // rounds its own count to the nearest step)
     if (o_seconds->count()) vo.seconds = steps_covering(seconds, opts.dt) * opts.dt;

@@ -58,24 +58,19 @@ bool is_symlink(const std::string& path) {
 std::string check_writable_dir(const std::string& dir) {
   if (::faccessat(AT_FDCWD, dir.c_str(), W_OK | X_OK, AT_EACCESS) != 0)
     return "directory " + quote(dir) + " is not writable (" + error_text(errno) + ")";
+  // The permission bits can say yes where no file can be made (/proc, some mounts, as root):
+  // one is made and removed, so that a run does not fail only at its end.
+  std::string probe = (dir.empty() ? std::string(".") : dir) + "/.clothsim-write-test-XXXXXX";
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0) return "cannot create a file in " + quote(dir.empty() ? "." : dir) + " (" + error_text(errno) + ")";
+  ::close(fd);
+  ::unlink(probe.c_str());
   return {};
 }
 
 // Empty, or why `path` cannot be created in `dir` (a temporary file goes there too).
 std::string in_writable_dir(const std::string& path, const std::string& dir) {
-  std::string why = check_writable_dir(dir);
-  if (why.empty()) {
-    // The permission bits can say yes where no file can be made (/proc, some mounts, as
-    // root): one is made and removed, so that the run does not fail only at its end.
-    std::string probe = (dir.empty() ? std::string(".") : dir) + "/.clothsim-write-test-XXXXXX";
-    const int fd = ::mkstemp(probe.data());
-    if (fd < 0) {
-      why = "cannot create a file in " + quote(dir.empty() ? "." : dir) + " (" + error_text(errno) + ")";
-    } else {
-      ::close(fd);
-      ::unlink(probe.c_str());
-    }
-  }
+  const std::string why = check_writable_dir(dir);
   return why.empty() ? why : "cannot write " + quote(path) + ": " + why;
 }
 

@@ -87,13 +87,15 @@ BehindCount count_behind(const ColliderSet& set, std::size_t o, const Eigen::Mat
 }
 
 LaunchCount count_launched(const ColliderSet& set, std::size_t o, const Eigen::Matrix3Xd& points,
-                           const Eigen::VectorXd& mass, double eps, double k_rep, double gravity, double times) {
+                           const Eigen::VectorXd& mass, const std::vector<std::uint8_t>& pinned, double eps,
+                           double k_rep, double gravity, double times) {
   LaunchCount out;
   if (!set.built() || o >= set.object_count() || set.triangle_count(o) == 0 || !(eps > 0.0) || !(k_rep > 0.0) ||
       points.cols() == 0 || mass.size() != points.cols())
     return out;
   std::vector<ColliderHit> hits(set.object_count());
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    if (!pinned.empty() && pinned[static_cast<std::size_t>(i)]) continue;  // held: not thrown
     const Eigen::Vector3d p = points.col(i);
     if (!p.allFinite() || set.query(p, eps, hits) == 0 || !hits[o].valid()) continue;
     const double d = hits[o].signed_distance;
@@ -101,7 +103,8 @@ LaunchCount count_launched(const ColliderSet& set, std::size_t o, const Eigen::M
     const double push = k_rep * (eps - d), weight = mass[i] * gravity;
     if (push > times * weight) {
       ++out.count;
-      out.worst = std::max(out.worst, weight > 0.0 ? push / weight : std::numeric_limits<double>::infinity());
+      if (weight > 0.0) out.worst = std::max(out.worst, push / weight);
+      out.worst_push = std::max(out.worst_push, push);
     }
   }
   return out;
@@ -150,14 +153,21 @@ std::vector<std::string> collider_warnings(const Model& model, double work_budge
     // large as the scene, a cloth placed just above a floor): a dice cloth at --epsilon 3 flew
     // 100 m up, a 1 cm cloth with the default 0.1 m band 7 km.
     {
-      const LaunchCount l = count_launched(set, o, model.x0, model.mass, model.options.epsilon, model.options.k_rep,
-                                           model.options.gravity.norm(), 10.0);
+      const double g = model.options.gravity.norm();
+      const LaunchCount l = count_launched(set, o, model.x0, model.mass, model.pinned, model.options.epsilon,
+                                           model.options.k_rep, g, 10.0);
       if (l.count > 0) {
-        char what[200];
-        std::snprintf(what, sizeof what,
-                      "start within the contact band of collider %s (epsilon %.3g m) and get up to %.3g times their "
-                      "weight at once: they will be thrown off; ",
-                      name.c_str(), model.options.epsilon, l.worst);
+        char what[240];
+        if (g > 0.0)
+          std::snprintf(what, sizeof what,
+                        "start within the contact band of collider %s (epsilon %.3g m) and get up to %.3g times their "
+                        "weight at once: they will be thrown off; ",
+                        name.c_str(), model.options.epsilon, l.worst);
+        else
+          std::snprintf(what, sizeof what,
+                        "start within the contact band of collider %s (epsilon %.3g m) and get up to %.3g N at once, "
+                        "with no gravity to hold them: they will be thrown off; ",
+                        name.c_str(), model.options.epsilon, l.worst_push);
         out.push_back("warning: " + std::to_string(l.count) + " of " + std::to_string(model.mass_count()) +
                       " masses " + what + "start the cloth farther than epsilon from it, or use a smaller --epsilon");
       }

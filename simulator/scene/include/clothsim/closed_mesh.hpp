@@ -55,16 +55,18 @@ struct BehindCount {
 };
 BehindCount count_behind(const ColliderSet& set, std::size_t o, const Eigen::Matrix3Xd& points, double eps);
 
-/// Masses of `points` in front of collider object o within its contact band (0 <= d < eps)
-/// that its penalty pushes at once by more than `times` their weight: k_rep (eps - d) >
-/// times m_i |g| (`mass` per point; a mass at rest sits at eps - m g / k_rep). `worst`: the
-/// largest such push over the weight.
+/// Free masses of `points` (`pinned[i]` 0, or `pinned` empty) in front of collider object o
+/// within its contact band (0 <= d < eps) that its penalty pushes at once by more than `times`
+/// their weight: k_rep (eps - d) > times m_i |g| (`mass` per point; a mass at rest sits at
+/// eps - m g / k_rep); with no gravity, any push. `worst`: the largest push over the weight
+/// (0 without gravity), `worst_push` the largest push, N.
 struct LaunchCount {
   std::size_t count = 0;
-  double worst = 0.0;
+  double worst = 0.0, worst_push = 0.0;
 };
 LaunchCount count_launched(const ColliderSet& set, std::size_t o, const Eigen::Matrix3Xd& points,
-                           const Eigen::VectorXd& mass, double eps, double k_rep, double gravity, double times);
+                           const Eigen::VectorXd& mass, const std::vector<std::uint8_t>& pinned, double eps,
+                           double k_rep, double gravity, double times);
 
 /// The start-up warnings about a model's colliders, one line each, "warning: ...": per
 /// collider object, closed parts whose faces point inwards (negative signed volume) or both
