@@ -102,10 +102,27 @@ int main(int argc, char** argv) {
   long triangles = 1000000;
   fs::path work = fs::temp_directory_path() / "b2o_bake_speed";
   std::string converter = B2O_CONVERTER, cxx = "c++", include = B2O_INCLUDE;
-  for (int i = 1; i + 1 < argc; i += 2) {
+  for (int i = 1; i < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--triangles") triangles = std::atol(argv[i + 1]);
-    else if (a == "--work") work = argv[i + 1];
+    if (a == "-h" || a == "--help") {
+      std::cout << "Usage: bake_speed [--triangles N] [--work DIR] [--converter PATH] [--cxx COMPILER] [--include DIR]\n"
+                   "Writes a Blender-like OBJ of about N triangles (default 1000000) into DIR (default "
+                << (fs::temp_directory_path() / "b2o_bake_speed").string()
+                << "), then times blender2ogl\n"
+                   "converting it and the compiler building what it wrote (docs/bake-speed.md). DIR must be\n"
+                   "new, empty or made by an earlier run: its files are replaced.\n";
+      return 0;
+    }
+    if (i + 1 >= argc) {
+      std::cerr << "bake_speed: " << a << (a.rfind("--", 0) == 0 ? " needs a value" : ": unknown argument")
+                << " (bake_speed --help)\n";
+      return 2;
+    }
+    if (a == "--triangles") {
+      char* end = nullptr;
+      triangles = std::strtol(argv[i + 1], &end, 10);
+      if (end == argv[i + 1] || *end != '\0') triangles = 0;
+    } else if (a == "--work") work = argv[i + 1];
     else if (a == "--converter") converter = argv[i + 1];
     else if (a == "--cxx") cxx = argv[i + 1];
     else if (a == "--include") include = argv[i + 1];
@@ -118,8 +135,28 @@ int main(int argc, char** argv) {
     std::cerr << "bake_speed: --triangles must be >= 2\n";
     return 2;
   }
-  fs::remove_all(work);
-  fs::create_directories(work);
+  // Only a folder this tool made is emptied (it holds its marker): any other, not empty, is
+  // refused (--work . once deleted the folder it was run in).
+  const fs::path marker = work / ".b2o_bake_speed";
+  std::error_code ec;
+  if (fs::exists(work, ec)) {
+    if (!fs::is_directory(work, ec)) {
+      std::cerr << "bake_speed: --work " << work.string() << " is not a directory\n";
+      return 2;
+    }
+    // (the default folder is this tool's by its name)
+    if (!fs::is_empty(work, ec) && !fs::exists(marker, ec) && work != fs::temp_directory_path() / "b2o_bake_speed") {
+      std::cerr << "bake_speed: --work " << work.string()
+                << " is not empty and was not made by bake_speed: give a new or empty folder\n";
+      return 2;
+    }
+    for (const auto& e : fs::directory_iterator(work, ec)) fs::remove_all(e.path(), ec);
+  }
+  fs::create_directories(work, ec);
+  if (ec || !std::ofstream(marker)) {
+    std::cerr << "bake_speed: cannot use --work " << work.string() << (ec ? ": " + ec.message() : "") << "\n";
+    return 2;
+  }
   const fs::path obj = work / "sheet.obj";
   write_obj(obj, triangles);
   std::cout << "model     " << obj.string() << " (" << static_cast<double>(fs::file_size(obj)) / 1e6 << " MB, about "

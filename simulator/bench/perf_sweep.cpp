@@ -15,7 +15,9 @@
 #include "skirt.h"
 #include "skirt_hires.h"
 
+#include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -103,9 +105,12 @@ std::pair<double, double> sliding_seconds(const ColliderSet& set, const Eigen::M
   return {best, static_cast<double>(certified) / static_cast<double>(pairs)};
 }
 
+bool g_write_failed = false;  // a CSV write failed (a full disk): the exit code says so
+
 struct Csv {
   std::ofstream out;
-  explicit Csv(const std::string& path, const char* header) {
+  std::string path;
+  explicit Csv(const std::string& p, const char* header) : path(p) {
     if (path.empty()) return;
     out.open(path);
     if (!out) {
@@ -113,6 +118,16 @@ struct Csv {
       std::exit(1);
     }
     out << header << '\n';
+  }
+  Csv(const Csv&) = delete;
+  Csv& operator=(const Csv&) = delete;
+  ~Csv() {
+    if (path.empty()) return;
+    out.close();
+    if (out.fail()) {
+      std::cerr << "perf_sweep: error: writing '" << path << "' failed (disk full?)\n";
+      g_write_failed = true;
+    }
   }
   template <class... A>
   void row(const A&... a) {
@@ -133,11 +148,12 @@ std::uint64_t run_hash(const Model& m, int steps, int threads) {
   return state_hash(s);
 }
 
-void skirt_table(const char* label, const b2o::Scene& scene, int settle, Csv& csv) {
+void skirt_table(const char* label, const b2o::Scene& scene, double settle, Csv& csv) {
   const Model m = build_model(scene, scene_options(scene));
   State s = make_state(m);
   Workspace ws = make_workspace(m);
-  for (int i = 0; i < settle; ++i) step(m, s, ws);  // on the collider, as most of a run is
+  set_threads(2);
+  while (s.t < settle - 0.5 * m.options.dt) step(m, s, ws);  // on the collider, as most of a run is
   set_threads(1);
   const double t1 = timed([&] { step(m, s, ws); });
   set_threads(2);
@@ -162,6 +178,30 @@ void skirt_table(const char* label, const b2o::Scene& scene, int settle, Csv& cs
 
 }  // namespace
 
+// A whole decimal integer or number (std::stoi read "1e9" as 1 and "3x" as 3).
+bool whole_int(const std::string& t, int& v) {
+  const char* end = t.data() + t.size();
+  const auto r = std::from_chars(t.data(), end, v);
+  return r.ec == std::errc() && r.ptr == end;
+}
+bool whole_double(const std::string& t, double& v) {
+  char* end = nullptr;
+  v = std::strtod(t.c_str(), &end);
+  return !t.empty() && end == t.c_str() + t.size() && std::isfinite(v);
+}
+
+constexpr const char* kUsage =
+    "Usage: perf_sweep [--quick] [--csv DIR] [--reps R] [--max-n N] [--max-level L] [--brute-pairs P]\n"
+    "The scaling sweep of issue 6 (docs/performance.md): springs, collision and whole steps of an\n"
+    "N x N cloth over an icosphere, each next to its reference in the same run, then the baked skirts.\n"
+    "  --quick          N <= 64, levels <= 4, 2 repetitions (a minute instead of ~10)\n"
+    "  --csv DIR        also write springs.csv, collision.csv, collision_speed.csv, skirt.csv into DIR\n"
+    "  --reps R         repetitions per measurement, the minimum is shown (default 5)\n"
+    "  --max-n N        largest cloth side (default 512, at least 16)\n"
+    "  --max-level L    finest icosphere level (default 8: 1.3M triangles; at least 3)\n"
+    "  --brute-pairs P  point-triangle pairs per brute-force repetition (default 3e7)\n"
+    "Exit codes: 0 ok, 1 a 2-thread run differed or a CSV could not be written, 2 bad usage.\n";
+
 int main(int argc, char** argv) {
   bool quick = false;
   std::string csv_dir;
@@ -176,19 +216,28 @@ int main(int argc, char** argv) {
       }
       return argv[++i];
     };
-    try {
-      if (a == "--quick") quick = true;
-      else if (a == "--csv") csv_dir = next();
-      else if (a == "--reps") g_reps = std::stoi(next());
-      else if (a == "--max-n") max_n = std::stoi(next());
-      else if (a == "--max-level") max_level = std::stoi(next());
-      else if (a == "--brute-pairs") brute_pairs = std::stod(next());
-      else {
-        std::cerr << "perf_sweep: error: unknown option '" << a << "'\n";
-        return 2;
-      }
-    } catch (const std::exception&) {
-      std::cerr << "perf_sweep: error: " << a << ": not a number\n";
+    bool number = true;
+    if (a == "-h" || a == "--help") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    } else if (a == "--quick") {
+      quick = true;
+    } else if (a == "--csv") {
+      csv_dir = next();
+    } else if (a == "--reps") {
+      number = whole_int(next(), g_reps);
+    } else if (a == "--max-n") {
+      number = whole_int(next(), max_n);
+    } else if (a == "--max-level") {
+      number = whole_int(next(), max_level);
+    } else if (a == "--brute-pairs") {
+      number = whole_double(next(), brute_pairs);
+    } else {
+      std::cerr << "perf_sweep: error: unknown option '" << a << "' (perf_sweep --help lists them)\n";
+      return 2;
+    }
+    if (!number) {
+      std::cerr << "perf_sweep: error: " << a << " " << argv[i] << ": not a whole number\n";
       return 2;
     }
   }
@@ -197,13 +246,30 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (quick) max_n = std::min(max_n, 64), max_level = std::min(max_level, 4), g_reps = std::min(g_reps, 2);
-  if (!csv_dir.empty()) std::filesystem::create_directories(csv_dir);
   auto path = [&](const char* name) { return csv_dir.empty() ? std::string() : csv_dir + "/" + name; };
+  if (!csv_dir.empty()) {  // before the sweep: a bad folder is found at once, not after minutes
+    std::error_code ec;
+    std::filesystem::create_directories(csv_dir, ec);
+    if (ec || !std::filesystem::is_directory(csv_dir)) {
+      std::cerr << "perf_sweep: error: --csv " << csv_dir << ": "
+                << (ec ? ec.message() : std::string("not a directory")) << "\n";
+      return 2;
+    }
+    for (const char* name : {"springs.csv", "collision.csv", "collision_speed.csv", "skirt.csv"}) {
+      std::ofstream probe(path(name), std::ios::app);
+      if (!probe) {
+        std::cerr << "perf_sweep: error: --csv: cannot write '" << path(name) << "'\n";
+        return 2;
+      }
+    }
+  }
 
   double load[3] = {0, 0, 0};
   if (getloadavg(load, 3) < 0) load[0] = -1;
   std::printf("perf_sweep: %d repetitions (min), load average %.2f, threads 1 and 2\n\n", g_reps, load[0]);
 
+  bool all_identical = true;
+  {  // the CSV files' scope
   // --- springs and the step without a collider, per N ---------------------------------
   Csv csv_s(path("springs.csv"),
             "n,masses,springs,scatter_ns_per_spring,gather1_ns_per_spring,gather2_ns_per_spring,"
@@ -211,7 +277,6 @@ int main(int argc, char** argv) {
   std::printf("springs (no collider)                     ns per spring per step       |  step ms (no collider)        | bytes per mass\n");
   std::printf("%5s %8s %8s | %8s %8s %8s %6s | %8s %8s %6s %5s | %6s %6s %6s\n", "N", "masses", "springs",
               "scatter", "gather1", "gather2", "ratio", "1 thr", "2 thr", "x", "same", "model", "state", "work");
-  bool all_identical = true;
   for (int n = 16; n <= max_n; n *= 2) {
     const Model m = perf::grid_model(n);
     State s = make_state(m);
@@ -324,15 +389,18 @@ int main(int argc, char** argv) {
   // --- the baked skirts -------------------------------------------------------------------------
   Csv csv_k(path("skirt.csv"),
             "scene,masses,springs,triangles,step1_us,step2_us,bvh_ns_per_mass,brute_ns_per_mass,realtime_factor");
-  std::printf("\nbaked scenes (after 1 s of simulation)   step us             | collision ns per mass       | real time\n");
+  const double settle = quick ? 0.2 : 1.0;  // s: on the sphere (first contact at ~0.58 s)
+  std::printf("\nbaked scenes (after %.1f s of simulation)   step us           | collision ns per mass       | real time\n",
+              settle);
   std::printf("%-12s %7s %8s %7s | %9s %9s %6s | %9s %9s %7s | %7s\n", "scene", "masses", "springs", "tris",
               "1 thr", "2 thr", "x", "bvh+hint", "brute", "ratio", "factor");
-  skirt_table("skirt", b2o::gen::skirt::scene, 100, csv_k);
-  skirt_table("skirt_hires", b2o::gen::skirt_hires::scene, quick ? 10 : 100, csv_k);
+  skirt_table("skirt", b2o::gen::skirt::scene, settle, csv_k);
+  skirt_table("skirt_hires", b2o::gen::skirt_hires::scene, settle, csv_k);
+  }  // (the CSV files are closed here, and a failed write said)
 
   if (!all_identical) {
     std::printf("\nperf_sweep: error: a 2-thread run differed from the 1-thread run\n");
     return 1;
   }
-  return 0;
+  return g_write_failed ? 1 : 0;
 }
