@@ -506,6 +506,12 @@ TEST(Cli, UnstableIntegratorMessageTellsTheTruthAboutDamping) {
   const Result none = run("--headless --quiet --steps 5 --integrator explicit-euler --damping 0");
   EXPECT_EQ(none.code, 2) << none.output;
   EXPECT_NE(none.output.find("(damping 0)"), std::string::npos) << none.output;
+  // a stiffness whose k / m overflows: refused as well (it ran, Lanczos saying 0 rad/s)
+  for (const char* k : {"1e305", "1e308"}) {
+    const Result stiff = run(std::string("--headless --quiet --steps 5 --k-struct ") + k);
+    EXPECT_EQ(stiff.code, 2) << k << ": " << stiff.output;
+    EXPECT_NE(stiff.output.find("overflows"), std::string::npos) << stiff.output;
+  }
   const Result light = run("--headless --quiet --steps 5 --mass 1e-320");
   EXPECT_EQ(light.code, 2) << light.output;
   EXPECT_NE(light.output.find("too light"), std::string::npos) << light.output;

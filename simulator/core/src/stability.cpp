@@ -304,6 +304,10 @@ StabilityReport analyse_stability(const Model& model, int lanczos_iterations) {
   r.springs_by_bound = !lanczos.converged && lanczos.omega > 0.0;
   r.omega_springs = r.springs_by_bound ? omega_max_bound(model, false) : lanczos.omega;
   r.omega_bound = omega_max_bound(model, true);
+  // Stiffnesses whose k / m overflows (--k-struct 1e308) left Lanczos no finite vector: it said
+  // 0 rad/s, and the run was let go to blow up; the bound tells.
+  if (!std::isfinite(r.omega_bound) || !std::isfinite(r.omega_springs))
+    r.omega_springs = std::numeric_limits<double>::infinity();
   r.omega_contact = omega_contact(model);
   r.omega_max = std::sqrt(r.omega_springs * r.omega_springs + r.omega_contact * r.omega_contact);
   const double m_max = max_free_mass(model);
@@ -355,7 +359,7 @@ std::string never_stable_reason(const StabilityReport& r, Integrator method) {
   char buf[400];
   if (!std::isfinite(r.omega_max) || !std::isfinite(r.zeta))
     std::snprintf(buf, sizeof buf,
-                  "no step size is stable: %s overflows; the masses are too light for %s",
+                  "no step size is stable: %s overflows; the masses are too light for %s (or those are too large)",
                   !std::isfinite(r.omega_max) ? ("omega_max (" + fmt_g(r.omega_max) + " rad/s)").c_str()
                                               : ("the damping rate (" + fmt_g(r.zeta) + " 1/s)").c_str(),
                   !std::isfinite(r.omega_max) ? "the springs (--k-struct, --k-bend) or the contact (--k-rep)"
