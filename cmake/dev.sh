@@ -11,7 +11,7 @@ cd "$root"
 what=${1:-run}
 case "$what" in
   run|test|build) ;;
-  -h|--help) sed -n '2,8p' "$0"; exit 0 ;;
+  -h|--help) sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
   *) echo "dev.sh: unknown command '$what' (use run, test or build)" >&2; exit 2 ;;
 esac
 

@@ -16,8 +16,8 @@ using b2o::conv::UsageError;
 constexpr const char* kHelp = R"(Usage: blender2ogl [options] MODEL.obj
 
 Bakes a model (Wavefront .obj + .mtl + textures, as Blender exports it) into C++:
-<name>.h (counts, object/cloth indices, a small API), <name>.cpp (tables) and
-<name>.S + <name>.bin (bulk arrays linked as raw bytes through .incbin).
+<name>.h (counts, the tables, a small API), <name>.cpp (a stub the library compiles),
+<name>.S and <name>.<hash>.bin (the bulk arrays, linked as raw bytes through .incbin).
 The program that links them reads no file at run time.
 
 Options:

@@ -9,8 +9,13 @@ n=${3:-256}
 for f in springs.csv collision.csv; do
   [ -r "$in/$f" ] || { echo "plot_perf.sh: error: cannot read '$in/$f'" >&2; exit 1; }
 done
+if ! awk -F, -v n="$n" 'NR>1 && $1==n {found=1} END {exit !found}' "$in/collision.csv"; then
+  echo "plot_perf.sh: error: no rows for a $n x $n cloth in '$in/collision.csv' (it has N =" \
+    "$(awk -F, 'NR>1 {print $1}' "$in/collision.csv" | sort -nu | tr '\n' ' ')); give one as the third argument" >&2
+  exit 2
+fi
 mkdir -p "$out"
-gnuplot <<GP
+gnuplot <<GP || { rm -f "$out/perf_springs.png" "$out/perf_collision.png"; echo "plot_perf.sh: error: gnuplot failed" >&2; exit 1; }
 set datafile separator ","
 set terminal pngcairo size 900,560 font "sans,11"
 set logscale xy

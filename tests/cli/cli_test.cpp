@@ -620,6 +620,25 @@ TEST(Cli, ViewerOptionsThatWouldDoNothingAreBadInput) {
 #ifdef CLOTHSIM_WP_EXE
 // clothsim_wp (the work-precision tool) writes <out>/<scene>.csv and .svg by the same rule:
 // the paths are checked before the study (exit 2), a device is written through, never replaced.
+// Values that ran a nonsense study with exit 0 (a NaN or overflowing stiffness, an
+// integrator given twice, whose order came out as garbage), a scene the tool does not have
+// (named with the ones it has), and study options with --model-cost: bad input, one line.
+TEST(WorkPrecision, BadStudiesAreRefusedBeforeTheyRun) {
+  const fs::path d = fresh_dir("wp_bad");
+  const std::string out = " --fast --scene hanging --out " + q(d / "out");
+  for (const std::string& args : {"--stiffness-scale nan" + out, "--stiffness-scale 1e306" + out,
+                                  "--horizon 0" + out, "--integrators rk4,rk4" + out,
+                                  std::string("--scene hanging --scene hanging --fast"), std::string("--scene dice"),
+                                  "--model-cost --scene hanging --out " + q(d / "out")}) {
+    const Result r = run_program(CLOTHSIM_WP_EXE, args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+    EXPECT_EQ(lines(r.output), 1) << args << ": " << r.output;
+  }
+  EXPECT_NE(run_program(CLOTHSIM_WP_EXE, "--scene dice").output.find("(hanging, skirt)"), std::string::npos);
+  EXPECT_FALSE(fs::exists(d / "out"));
+  EXPECT_EQ(run_program(CLOTHSIM_WP_EXE, "--version").code, 0);
+}
+
 TEST(WorkPrecision, OutputPathsAreCheckedBeforeTheStudy) {
   const fs::path d = fresh_dir("wp_paths");
   { std::ofstream(d / "afile") << "x\n"; }

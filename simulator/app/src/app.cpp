@@ -251,6 +251,8 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
 
   CLI::App app{std::string("clothsim: mass-spring cloth simulation of the baked scene '") + scene.name +
                "' (symplectic Euler, report eqs. 1-7; penalty contacts, eq. 12)"};
+  // (the usage line names the program as it was started)
+  app.name(argc > 0 && argv[0] ? std::filesystem::path(argv[0]).filename().string() : std::string("clothsim"));
   app.set_version_flag("--version", std::string("clothsim ") + CLOTHSIM_VERSION + " (scene " + scene.name + ")");
 
   bool headless = false, quiet = false, no_vsync = false, paused = false;

@@ -9,7 +9,14 @@
 
 #include <CLI/CLI.hpp>
 
+#ifndef CLOTHSIM_WP_VERSION
+#define CLOTHSIM_WP_VERSION "0.0.0"
+#endif
+
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <iomanip>
 #include <iostream>
@@ -88,8 +95,11 @@ clothsim::Model without_bend_springs(const clothsim::Model& m) {
 }
 
 // "Model only what a scene needs": the cost of each modelled part, measured.
-void model_cost(const SceneEntry& e) {
-  const clothsim::Model full = clothsim::build_model(*e.scene, clothsim::scene_options(*e.scene));
+void model_cost(const SceneEntry& e, double stiffness_scale) {
+  clothsim::Options options = clothsim::scene_options(*e.scene);
+  options.k_struct *= stiffness_scale;
+  options.k_bend *= stiffness_scale;
+  const clothsim::Model full = clothsim::build_model(*e.scene, options);
   clothsim::Model no_bend = without_bend_springs(full);
   clothsim::Model no_coll = full;
   no_coll.colliders = nullptr;
@@ -115,17 +125,34 @@ int main(int argc, char** argv) {
   bool fast = false;
   double horizon = 0.0;
   int levels = 0, repeats = -1;
-  app.add_option("--out", out_dir, "directory for <scene>.csv and <scene>.svg");
-  app.add_option("--scene", scenes, "scene(s) to study (default: all baked ones)");
+  // A finite number > 0 (CLI11's PositiveNumber let nan through, and printed its range as 0 to
+  // a 309-digit number).
+  const auto finite_positive = CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v) || !(v > 0.0))
+          return "must be a finite number > 0 (got '" + text + "')";
+        return {};
+      },
+      "NUMBER > 0");
+  std::string known;
+  for (const auto& e : baked_scenes()) known += (known.empty() ? "" : ", ") + std::string(e.name);
+  app.set_version_flag("--version", CLOTHSIM_WP_VERSION);
+  app.add_option("--out", out_dir, "directory for <scene>.csv and <scene>.svg")->capture_default_str();
+  app.add_option("--scene", scenes, "scene(s) to study: " + known + " (default: all of them)");
   app.add_option("--integrators", methods, "integrators (default: all): " + clothsim::integrator_names())
       ->delimiter(',');
   app.add_flag("--fast", fast, "smoke run: short horizon, 3 levels, 1 repeat");
   bool cost = false;
   double stiffness_scale = 1.0;
-  app.add_option("--stiffness-scale", stiffness_scale, "multiply every spring's stiffness (stiffer cloth)")
-      ->check(CLI::PositiveNumber);
+  auto* o_scale = app.add_option("--stiffness-scale", stiffness_scale,
+                                 "multiply every spring's stiffness (stiffer cloth)")
+                      ->check(finite_positive);
   app.add_flag("--model-cost", cost, "instead: time per step and dt_stable with and without bend springs / colliders");
-  app.add_option("--horizon", horizon, "simulated seconds per run (default per scene)")->check(CLI::PositiveNumber);
+  app.add_option("--horizon", horizon, "simulated seconds per run (default per scene; rounded to whole steps of the "
+                                       "largest dt)")
+      ->check(finite_positive);
   app.add_option("--levels", levels, "number of halved dt per method (default 8)")->check(CLI::Range(2, 16));
   app.add_option("--repeats", repeats, "timed runs after the warm-up (default 3)")->check(CLI::Range(1, 20));
   int ref_refine = 0;
@@ -133,7 +160,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(2, 64));
   try {
     app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
+  } catch (const CLI::Success& e) {  // --help, --version
     return app.exit(e);
   } catch (const CLI::ParseError& e) {  // bad input: exit 2, like clothsim (CLI11's own codes vary)
     std::cerr << "clothsim_wp: error: " << e.what() << "\n";
@@ -156,6 +183,11 @@ int main(int argc, char** argv) {
                 << clothsim::integrator_names() << ")\n";
       return 2;
     }
+    // (given twice, its points were merged and its order came out as nonsense)
+    if (std::find(settings.methods.begin(), settings.methods.end(), *m) != settings.methods.end()) {
+      std::cerr << "clothsim_wp: --integrators: '" << name << "' given twice\n";
+      return 2;
+    }
     settings.methods.push_back(*m);
   }
   std::vector<SceneEntry> todo;
@@ -166,10 +198,15 @@ int main(int argc, char** argv) {
   }
   for (const std::string& name : scenes) {
     bool found = false;
+    for (const auto& e : todo)
+      if (name == e.name) {
+        std::cerr << "clothsim_wp: --scene: '" << name << "' given twice\n";
+        return 2;
+      }
     for (const auto& e : all)
       if (name == e.name) todo.push_back(e), found = true;
     if (!found) {
-      std::cerr << "clothsim_wp: --scene: no baked scene '" << name << "'\n";
+      std::cerr << "clothsim_wp: --scene: '" << name << "' is not one of this tool's scenes (" << known << ")\n";
       return 2;
     }
   }
@@ -177,7 +214,13 @@ int main(int argc, char** argv) {
 
   int status = 0;
   if (cost) {
-    for (const auto& e : todo) model_cost(e);
+    // a table on the terminal: the study's options do nothing here, so they are refused
+    for (const char* name : {"--out", "--integrators", "--horizon", "--levels", "--repeats", "--ref-refine", "--fast"})
+      if (app.count(name) > 0) {
+        std::cerr << "clothsim_wp: error: " << name << " is for the study, not for --model-cost\n";
+        return 2;
+      }
+    for (const auto& e : todo) model_cost(e, o_scale->count() ? stiffness_scale : 1.0);
     return 0;
   }
   // The outputs <out>/<label>.csv/.svg before the study (minutes): a bad path is bad input now.
@@ -201,9 +244,17 @@ int main(int argc, char** argv) {
       if (stiffness_scale != 1.0) {  // both kinds, before the build: nothing keeps the old values
         options.k_struct *= stiffness_scale;
         options.k_bend *= stiffness_scale;
+        if (!std::isfinite(options.k_struct) || !std::isfinite(options.k_bend)) {
+          std::cerr << "clothsim_wp: error: --stiffness-scale " << stiffness_scale
+                    << ": the scaled stiffness overflows\n";
+          return 2;
+        }
       }
       const clothsim::Model model = clothsim::build_model(*e.scene, options);
       const auto result = clothsim::wp::run(model, label, s, std::cerr);
+      if (horizon > 0.0 && std::abs(result.horizon - horizon) > 1e-9 * horizon)
+        std::cerr << "clothsim_wp: note: --horizon " << horizon << " s taken as " << result.horizon
+                  << " s (whole steps of the largest dt, at least one)\n";
       clothsim::wp::write_outputs(result, out_dir);
       clothsim::wp::print_summary(result, std::cout);
       std::cout << "wrote " << out_dir << "/" << label << ".csv and .svg\n" << std::flush;

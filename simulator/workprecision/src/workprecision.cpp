@@ -265,12 +265,12 @@ void print_summary(const Result& r, std::ostream& out) {
   if (std::isnan(r.speedup_1pc))
     out << "target (best method at 1 % >= 10x faster than symplectic Euler at its limit): no method reached 1 %\n";
   else
-    out << "target: best at 1 % is " << to_string(r.best_1pc) << ", " << fmt(r.speedup_1pc)
-        << "x less cpu than symplectic Euler at its limit -> "
+    out << "target: best at 1 % is " << to_string(r.best_1pc) << ", a speed-up of " << fmt(r.speedup_1pc)
+        << "x over symplectic Euler at its limit (that cpu time over this one's) -> "
         << (r.speedup_1pc >= 10.0 ? "met" : "NOT met") << " (>= 10x)\n";
   if (!std::isnan(r.speedup_1e4))
-    out << "at equal error 1e-4: best is " << to_string(r.best_1e4) << ", " << fmt(r.speedup_1e4)
-        << "x less cpu than symplectic Euler\n";
+    out << "at equal error 1e-4: best is " << to_string(r.best_1e4) << ", a speed-up of " << fmt(r.speedup_1e4)
+        << "x over symplectic Euler\n";
 }
 
 namespace {
