@@ -18,6 +18,8 @@ gnuplot <<GP || { rm -f "$png"; echo "plot.sh: error: gnuplot failed; no $png" >
 set terminal pngcairo size 900,600 font 'sans,11'
 set output '$png'
 set logscale xy
+set format x '10^{%L}'
+set format y '10^{%L}'
 set grid
 set xlabel 'error (RMS position error / cloth size)'
 set ylabel 'CPU seconds'
