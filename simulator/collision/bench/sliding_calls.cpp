@@ -8,6 +8,7 @@
 //   perf stat -e instructions:u build/bin/bench_collision_sliding 7 0
 // It prints the share of the calls certified without a search and a checksum of the forces.
 #include <cstdio>
+#include <string>
 #include <cstdlib>
 
 #include <Eigen/Geometry>
@@ -30,6 +31,14 @@ bool number(const char* text, double& out) {
 
 int main(int argc, char** argv) {
   double level = 0.0, calls = 0.0, step = 2e-4, lo = 1.0, hi = 1.1;
+  if (argc == 2 && (std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help")) {
+    std::printf("usage: %s LEVEL CALLS [STEP_M=2e-4 [LO=1.0 [HI=1.1]]]\n"
+                "  LEVEL 0-9 (20 * 4^LEVEL triangles), CALLS >= 0, LO <= HI\n"
+                "4096 points sliding STEP_M per call at LO..HI from a unit icosphere, CALLS calls of\n"
+                "accumulate_penalty() with a ContactCache; run under callgrind (docs/performance.md).\n",
+                argv[0]);
+    return 0;
+  }
   if (argc < 3 || argc > 6 || !number(argv[1], level) || !number(argv[2], calls) ||
       (argc > 3 && !number(argv[3], step)) || (argc > 4 && !number(argv[4], lo)) ||
       (argc > 5 && !number(argv[5], hi)) || level < 0 || level > 9 || calls < 0 || !(hi >= lo)) {

@@ -2,6 +2,7 @@
 // points at distance d from an icosphere of T triangles (collision.cpp built with
 // CLOTHSIM_COLLISION_COUNTERS). A search that grows as log T adds a constant per 4x T.
 #include <cstdio>
+#include <string>
 #include <random>
 #include <vector>
 
@@ -12,7 +13,16 @@ namespace clothsim {
 extern std::uint64_t g_tri_tests, g_box_tests;  // defined in collision.cpp with the counters
 }
 
-int main() {
+int main(int argc, char** argv) {
+  // no options: a table of the BVH's visits per query (docs/collision.md)
+  if (argc > 1) {
+    const bool help = std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help";
+    std::fprintf(help ? stdout : stderr,
+                 "usage: %s (no options): the BVH's triangle and box tests per query on icospheres of\n"
+                 "levels 3-8, nearest and 16-nearest, as a markdown table\n",
+                 argv[0]);
+    return help ? 0 : 2;
+  }
   std::printf("| triangles | d | triangle tests / query | box tests / query | 16-nearest: triangle tests | box tests |\n"
               "|---|---|---|---|---|---|\n");
   for (int level = 3; level <= 8; ++level) {
