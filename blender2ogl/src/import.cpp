@@ -12,6 +12,7 @@
 #include <cstring>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -343,13 +344,26 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
     }
     // A `usemtl` no library defines: assimp invents a material of that name (grey); the
     // file's author meant another. (Not repeated when a library was missing: that is warned.)
-    if (!library_missing)
+    // Once per name, at its first use, with how many more there are (Blender's legacy
+    // exporter writes `usemtl (null)` before every object without a material).
+    if (!library_missing) {
+      std::map<std::string, std::pair<std::size_t, std::size_t>> undefined;  // name -> first line, uses
+      std::vector<std::string> order;
       for (const auto& [name, line] : scan.usemtl)
-        if (defined.count(name) == 0)
-          out.warnings.push_back(file.string() + ":" + std::to_string(line) + ": material " + quote_input(name) +
-                                 (scan.mtllibs.empty() ? " used but no 'mtllib' is given"
-                                                       : " is defined in no material library") +
-                                 "; its faces get a default (grey) material");
+        if (defined.count(name) == 0) {
+          auto [it, added] = undefined.try_emplace(name, line, 0);
+          if (added) order.push_back(name);
+          ++it->second.second;
+        }
+      for (const std::string& name : order) {
+        const auto [line, uses] = undefined[name];
+        out.warnings.push_back(file.string() + ":" + std::to_string(line) + ": material " + quote_input(name) +
+                               (scan.mtllibs.empty() ? " used but no 'mtllib' is given"
+                                                     : " is defined in no material library") +
+                               "; its faces get a default (grey) material" +
+                               (uses > 1 ? " (used " + std::to_string(uses) + " times)" : std::string()));
+      }
+    }
     if (scan.cleaned) replaced.emplace_back(file, std::move(scan.clean_text));
     if (scan.lines_points > 0)
       out.warnings.push_back(file.string() + ": " + std::to_string(scan.lines_points) +

@@ -140,7 +140,15 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     rest = (nl == std::string_view::npos) ? std::string_view() : rest.substr(nl + 1);
     // A trailing backslash continues the line (rare: only then is the line copied).
     std::string_view body_all = line;
-    const bool continued = !line.empty() && (line.back() == '\\' || (line.size() > 1 && line.back() == '\r' && line[line.size() - 2] == '\\'));
+    bool continued = !line.empty() && (line.back() == '\\' || (line.size() > 1 && line.back() == '\r' && line[line.size() - 2] == '\\'));
+    // A comment ending in '\' (a Windows folder: "# from C:\models\") would take the next
+    // statement into the comment, for assimp too (a face lost): assimp gets it without the '\'.
+    if (const std::size_t first = line.find_first_not_of(" \t"); continued && first != std::string_view::npos &&
+                                                                    line[first] == '#') {
+      continued = false;
+      const std::size_t slash = line.rfind('\\');
+      cuts.push_back({static_cast<std::size_t>(line.data() - text.data()) + slash, 1, {}});
+    }
     if (continued) joined.assign(line);
     while (continued && !joined.empty() && (joined.back() == '\\' || (joined.back() == '\r' && joined.size() > 1 && joined[joined.size() - 2] == '\\')) && !rest.empty()) {
       joined.erase(joined.rfind('\\'));

@@ -438,6 +438,20 @@ TEST(Import, WhatTheMisreadFixesKeep) {
   EXPECT_EQ(s.textures[0].bytes.size(), png.size());
 }
 
+// A comment ending in '\' (a Windows folder) took the next face into the comment, for assimp
+// too; and Blender's legacy `usemtl (null)` before every object warned at every use.
+TEST(Import, CommentBackslashAndRepeatedUndefinedMaterial) {
+  const auto dir = scratch("import_comment_null");
+  write_file(dir / "m.obj", "o A\nv 0 0 0\nv 1 0 0\nv 0 0 1\nv 1 0 1\nusemtl (null)\n"
+                            "# exported from C:\\models\\\nf 1 2 3\no B\nusemtl (null)\nf 2 4 3\n");
+  const auto s = import_scene(dir / "m.obj", false);
+  EXPECT_EQ(s.indices.size(), 6u);  // both faces
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("m.obj:6: material '(null)' used but no 'mtllib' is given"), std::string::npos)
+      << s.warnings[0];
+  EXPECT_NE(s.warnings[0].find("(used 2 times)"), std::string::npos) << s.warnings[0];
+}
+
 // Two libraries in two folders naming a texture of the same name: each material gets the
 // one next to its .mtl (both got the first folder's).
 TEST(Import, TexturesAreRelativeToTheirOwnMtl) {
