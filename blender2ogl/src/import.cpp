@@ -70,6 +70,15 @@ Material read_material(const aiMaterial& m) {
   return out;
 }
 
+// A file's bytes (a material library the pre-scan read already).
+std::string read_text(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in) throw InputError(file.string() + ": cannot read");
+  return text.str();
+}
+
 // What assimp reads: the model as the pre-scan cleaned it (when it did), and .obj/.mtl files
 // without a UTF-8 byte-order mark (assimp 5.2.5 would take it as part of the first statement).
 // Other files, and relative paths (mtllib, textures), go through the default file system.
@@ -303,6 +312,7 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
     out.timings_ms.emplace_back("pre-scan", lap_ms(t0));
     std::set<std::string> defined;  // materials of the libraries read
     bool library_missing = false;
+    std::size_t line_first = 0;  // `replaced` entry of the first library of an mtllib line of several
     for (std::size_t i = 0; i < scan.mtllibs.size(); ++i) {
       const std::string& lib = scan.mtllibs[i];
       const auto p = folder / lib;
@@ -317,7 +327,16 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
         for (MapKd& k : m.maps) map_kd.push_back({std::move(k), mtl});
         defined.insert(m.materials.begin(), m.materials.end());
         out.warnings.insert(out.warnings.end(), m.warnings.begin(), m.warnings.end());
-        if (m.cleaned) replaced.emplace_back(mtl, std::move(m.clean_text));
+        // a line of several libraries: assimp reads the first, whose text carries the others'
+        const bool joined = scan.mtllib_joined[i];
+        const bool leads = !joined && i + 1 < scan.mtllibs.size() && scan.mtllib_joined[i + 1];
+        if ((joined || leads) && !m.cleaned) m.clean_text = read_text(mtl);
+        if (joined) {
+          replaced[line_first].second.append("\n").append(m.clean_text);
+        } else if (m.cleaned || leads) {
+          replaced.emplace_back(mtl, std::move(m.clean_text));
+          line_first = replaced.size() - 1;
+        }
         out.inputs_read.push_back(std::filesystem::absolute(mtl));
       };
       if (!std::filesystem::exists(p, ec)) {

@@ -8,7 +8,7 @@
 namespace b2o::conv {
 namespace {
 
-constexpr std::array<std::string_view, 100> kReserved = {
+constexpr std::array<std::string_view, 107> kReserved = {
     "alignas", "alignof", "and", "and_eq", "asm", "auto", "bitand", "bitor", "bool", "break", "case", "catch",
     "char", "char8_t", "char16_t", "char32_t", "class", "compl", "concept", "const", "consteval", "constexpr",
     "constinit", "const_cast", "continue", "co_await", "co_return", "co_yield", "decltype", "default", "delete",
@@ -20,7 +20,10 @@ constexpr std::array<std::string_view, 100> kReserved = {
     "union", "unsigned", "using", "virtual", "void", "volatile", "wchar_t", "while", "xor", "xor_eq",
     // names that would clash with macros, the generated API or the namespaces it names
     // (a scene namespace b2o::gen::std would hide ::std for the code inside it)
-    "assert", "errno", "NULL", "scene", "std", "b2o", "gen"};
+    "assert", "errno", "NULL", "scene", "std", "b2o", "gen",
+    // macros GCC and Clang predefine in the GNU dialects (gnu++20, CMake's default, and the
+    // preprocessor of the scene's .S file): linux and unix on Linux, the others on other targets
+    "linux", "unix", "i386", "sun", "vax", "mips", "sparc"};
 
 }  // namespace
 

@@ -3,6 +3,7 @@
 // tokenizes lines to give a clear message with a line number. It builds no geometry.
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <cmath>
 #include <cstdlib>
@@ -132,6 +133,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   };
   std::map<std::string, Made> made;
   std::vector<Made*> vertex_object;  // per `v`: the object it was written under (null: none)
+  std::vector<std::uint8_t> vertex_used;  // per `v`: whether a face uses it
   while (!rest.empty()) {
     ++line_no;
     const std::size_t start_line = line_no;
@@ -245,6 +247,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       Made* under = current_group.empty() ? nullptr : &made[current_group];
       if (under) ++under->vertices;
       vertex_object.push_back(under);
+      vertex_used.push_back(0);
       if (in_pin_object) {
         // (the values are only parsed here: pin points need them, nothing else does)
         double xyz[3];
@@ -288,8 +291,9 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
               fail(file, start_line, "malformed vertex reference " + quote_input(ref));
             const long long n = static_cast<long long>(count);
             if (part == 0 && key != "l" && key != "p" && idx <= n && idx >= -n) {
-              Made* of = vertex_object[static_cast<std::size_t>(idx > 0 ? idx - 1 : n + idx)];
-              if (of) of->used = true;
+              const auto vi = static_cast<std::size_t>(idx > 0 ? idx - 1 : n + idx);
+              if (Made* of = vertex_object[vi]) of->used = true;
+              vertex_used[vi] = 1;
             }
             if (idx > n || idx < -n)
               fail(file, start_line, std::string(part == 0 ? "vertex" : part == 1 ? "texture coordinate" : "normal") +
@@ -415,6 +419,19 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       std::string name(body.substr(body.find("mtllib") + 6));
       while (!name.empty() && (name.front() == ' ' || name.front() == '\t')) name.erase(0, 1);
       while (!name.empty() && (name.back() == ' ' || name.back() == '\t' || name.back() == '\r')) name.pop_back();
+      // Several libraries on one line (the OBJ spec allows it; assimp reads the rest of the
+      // line as one name): when no file has the whole name but every word names one.
+      std::vector<std::string> libs{name};
+      const std::filesystem::path folder = file.parent_path();
+      if (!continued && name.find_first_of(" \t") != std::string::npos &&
+          !std::filesystem::exists(folder / name, ec)) {
+        std::vector<std::string> words;
+        std::istringstream split(name);
+        for (std::string w; split >> w;) words.push_back(w);
+        if (std::all_of(words.begin(), words.end(),
+                        [&](const std::string& w) { return std::filesystem::is_regular_file(folder / w, ec); }))
+          libs = words, name = words.front();
+      }
       // assimp opens the rest of the line as it is: trailing spaces or a comment lost the
       // library (a default grey material, no warning); it is given the name alone
       if (!continued && !name.empty()) {
@@ -424,8 +441,11 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
         if (!line.empty() && line.back() == '\r') --to;
         if (to > at + name.size()) cuts.push_back({at + name.size(), to - at - name.size(), {}});
       }
-      scan.mtllibs.push_back(name);
-      scan.mtllib_lines.push_back(start_line);
+      for (std::size_t k = 0; k < libs.size(); ++k) {
+        scan.mtllibs.push_back(libs[k]);
+        scan.mtllib_lines.push_back(start_line);
+        scan.mtllib_joined.push_back(k > 0);
+      }
     }
   }
   // Objects of loose vertices (no faces): assimp drops them. A pin helper is read above by
@@ -441,6 +461,26 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
                                   "Blender 3.3's exporter)")
                     : std::string()));
     }
+  // Loose vertices of an object that has faces (the 2016 skirt's 353rd, at the origin): assimp
+  // reads only the vertices faces use, so they get no mass and are not drawn.
+  {
+    struct Loose {
+      std::size_t count = 0, first = 0;  // first: its 1-based `v` number
+    };
+    std::map<const Made*, Loose> loose;
+    for (std::size_t i = 0; i < vertex_used.size(); ++i)
+      if (!vertex_used[i] && vertex_object[i] && vertex_object[i]->used) {
+        Loose& l = loose[vertex_object[i]];
+        if (l.count++ == 0) l.first = i + 1;
+      }
+    for (const auto& [name, m] : made)
+      if (const auto it = loose.find(&m); it != loose.end())
+        scan.warnings.push_back(file.string() + ":" + std::to_string(m.line) + ": object " + quote_input(name) + ": " +
+                                std::to_string(it->second.count) + " of its " + std::to_string(m.vertices) +
+                                " vertices " + (it->second.count == 1 ? "is" : "are") +
+                                " in no face (the first: vertex " + std::to_string(it->second.first) +
+                                "): left out (no mass, not drawn)");
+  }
   if (freeform > 0)
     scan.warnings.push_back(file.string() + ":" + std::to_string(freeform_line) + ": " + std::to_string(freeform) +
                             " freeform curve/surface statement" + (freeform == 1 ? "" : "s") +
@@ -557,6 +597,7 @@ MtlScan prescan_mtl_file(const std::filesystem::path& file, const std::filesyste
         double v = 0.0;
         // (a texture named like a number, after all the option's numbers, stays the name)
         while (got < most && k + 1 < tok.size() && parse_number(tok[k], v)) {
+          v = std::strtod(std::string(tok[k]).c_str(), nullptr);  // (parse_number gives only large values)
           const double neutral = option == "-s" ? 1.0 : 0.0;
           if ((option == "-s" || option == "-o" || option == "-t") && v != neutral) transformed = true;
           ++got, ++k;

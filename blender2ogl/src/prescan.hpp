@@ -11,6 +11,10 @@ struct ObjScan {
   std::size_t positions = 0, texcoords = 0, normals = 0, faces = 0, lines_points = 0, groups = 0;
   std::vector<std::string> mtllibs;
   std::vector<std::size_t> mtllib_lines;
+  /// Per mtllib: true when it is not the first library of its line (`mtllib a.mtl b.mtl`,
+  /// when no file has the whole name): assimp reads one name per line, so it is given the
+  /// first one, whose text then carries the others' after its own.
+  std::vector<bool> mtllib_joined;
   /// Vertices written under an `o`/`g` named `<OBJECT>_pins` or `<OBJECT>.pins` (x y z ...):
   /// assimp drops objects without faces, so pin helpers made of loose vertices are read here.
   std::map<std::string, std::vector<float>> pin_points;

@@ -100,7 +100,7 @@ TEST(Cli, ObjectNamesWithSpacesSelectAndPin) {
   const auto dir = scratch("cli_space_names");
   write_file(dir / "m.obj", "o My Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n"
                             "o My Cloth_pins\nv 0 1 0\nv 1 1 0\n"
-                            "o My Floor\nv 0 -1 0\nv 1 -1 0\nv 0 -1 1\nf 7 5 6\n");
+                            "o My Floor\nv 0 -1 0\nv 1 -1 0\nv 0 -1 1\nf 7 8 9\n");
   const auto r = run_converter({"-v", "-a", "My Cloth", "-t", (dir / "out").string(), (dir / "m.obj").string()});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* k : {"objects    2", "cloths     1", "masses     4", "pins       2", "warnings   0",
@@ -257,7 +257,7 @@ TEST(Cli, DepfileFailureChangesNothing) {
 TEST(Cli, SceneNameThatWouldChangeIsRefused) {
   const auto dir = scratch("cli_bad_name");
   write_file(dir / "m.obj", kTriangle);
-  for (const char* name : {"class", "flag_", "std", "b2o", "my scene", "2d", "a__b", "scene"}) {
+  for (const char* name : {"class", "flag_", "std", "b2o", "my scene", "2d", "a__b", "scene", "linux", "unix"}) {
     const auto r = run_converter({"-n", name, "-t", (dir / "out").string(), (dir / "m.obj").string()});
     EXPECT_EQ(r.exit_code, 2) << name << "\n" << r.output;
     EXPECT_NE(r.output.find("not usable as a scene name"), std::string::npos) << name << ": " << r.output;

@@ -253,6 +253,9 @@ TEST(Identifiers, OddNamesGiveValidDistinctStableIdentifiers) {
   EXPECT_EQ(s.objects[4].identifier, "My_Object");
   EXPECT_EQ(s.objects[5].identifier, "My_Object_2");  // collision once cleaned: file order decides
   EXPECT_EQ(b2o::conv::clean_identifier("class"), "class_");
+  // macros in GCC's GNU dialects (CMake's default, and the scene's .S)
+  EXPECT_EQ(b2o::conv::clean_identifier("linux"), "linux_");
+  EXPECT_EQ(b2o::conv::clean_identifier("unix"), "unix_");
   EXPECT_EQ(b2o::conv::clean_identifier("__x__y"), "x_y");
   EXPECT_EQ(b2o::conv::clean_identifier("\xC3\xBC"), "unnamed");
 }
@@ -488,6 +491,54 @@ TEST(Import, DroppedAndCutObjectsAreWarned) {
             std::string::npos) << all;
   EXPECT_NE(all.find("a pin helper is found by the exact name '<cloth>_pins'"), std::string::npos) << all;
   EXPECT_NE(all.find("m.obj:9: object name read as 'Flag': '#1' is a comment in OBJ"), std::string::npos) << all;
+}
+
+// Found by a new user's exports: a loose vertex in an object that has faces (the 2016 skirt's
+// 353rd) is said; a texture offset (Blender writes `-o` for a Mapping node) is warned and a
+// neutral scale is not; `mtllib a.mtl b.mtl` reads both libraries.
+TEST(Import, LooseVerticesOffsetsAndSeveralLibrariesOnALine) {
+  const auto dir = scratch("import_loose_offsets");
+  write_file(dir / "loose.obj", "o Cone\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 0.5\nf 1 2 3 4\n"
+                                "o Whole\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 6 7 8\n");
+  auto s = import_scene(dir / "loose.obj", false);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("loose.obj:1: object 'Cone': 1 of its 5 vertices is in no face (the first: vertex 5)"),
+            std::string::npos) << s.warnings[0];
+
+  write_file(dir / "tex.png", read_file(fixture("checker.png")));
+  write_file(dir / "b.mtl", "newmtl Blue\nKd 0 0 1\n");
+  write_file(dir / "m.obj", "mtllib a.mtl b.mtl\no A\nv 0 0 0\nv 1 0 0\nv 0 0 1\nvt 0 0\nusemtl Red\nf 1/1 2/1 3/1\n"
+                            "o B\nv 0 1 0\nv 1 1 0\nv 0 1 1\nusemtl Blue\nf 4 5 6\n");
+  for (const char* options : {"-o 0.5 0.5 0 ", "-o 0.25 ", "-t 0.1 0.1 0 ", "-s 2 2 1 ", "-s 1 1 1 ", "-s 1.000000 ",
+                              "-o 0 0 0 -s 1 1 1 ", ""}) {
+    write_file(dir / "a.mtl", std::string("newmtl Red\nKd 1 0 0\nmap_Kd ") + options + "tex.png\n");
+    s = import_scene(dir / "m.obj", false);
+    const std::string o = options;
+    const bool neutral = o.empty() || o == "-s 1 1 1 " || o == "-s 1.000000 " || o == "-o 0 0 0 -s 1 1 1 ";
+    EXPECT_EQ(s.warnings.size(), neutral ? 0u : 1u) << options;
+    if (!neutral && !s.warnings.empty()) {
+      EXPECT_NE(s.warnings[0].find("a.mtl:3: the texture's scale, offset or turbulence"), std::string::npos)
+          << s.warnings[0];
+    }
+    ASSERT_EQ(s.materials.size(), 2u) << options;
+    EXPECT_EQ(s.materials[0].name, "Red");
+    EXPECT_EQ(s.materials[0].diffuse[0], 1.0f);
+    EXPECT_EQ(s.materials[0].diffuse_texture, 0);
+    EXPECT_EQ(s.materials[1].name, "Blue");
+    EXPECT_EQ(s.materials[1].diffuse[2], 1.0f);
+    ASSERT_EQ(s.submeshes.size(), 2u);
+    EXPECT_NE(s.submeshes[0].material, s.submeshes[1].material);
+  }
+  // a file whose name has a space is still one library
+  write_file(dir / "a b.mtl", "newmtl Red\nKd 0 1 0\n");
+  write_file(dir / "one.obj", "mtllib a b.mtl\no A\nv 0 0 0\nv 1 0 0\nv 0 0 1\nusemtl Red\nf 1 2 3\n");
+  s = import_scene(dir / "one.obj", false);
+  ASSERT_EQ(s.materials.size(), 1u);
+  EXPECT_EQ(s.materials[0].diffuse[1], 1.0f);
+  EXPECT_TRUE(s.warnings.empty());
+  // and a missing one of several is named
+  fs::remove(dir / "b.mtl");
+  expect_input_error([&] { import_scene(dir / "m.obj", false); }, "m.obj:1: material library 'a.mtl b.mtl' not found");
 }
 
 // No zero or non-finite normal reaches the scene: a face without `vn` among faces with, a
