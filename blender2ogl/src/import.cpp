@@ -518,7 +518,9 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
     // (the pre-scan gave assimp OBJ names encoded, spaces and all: see encode_object_name)
     if (is_obj) obj.name = decode_object_name(obj.name);
     // OBJ without `o`/`g`: assimp invents a name; the object is named after the file.
-    if (is_obj && scan.groups == 0) obj.name = file.stem().string();
+    // So are faces before the first `o`/`g`, or under a bare `o` (assimp: "defaultobject").
+    if (is_obj && (scan.groups == 0 || (obj.name == "defaultobject" && scan.object_lines.count("defaultobject") == 0)))
+      obj.name = file.stem().string();
     while (!obj.name.empty() && (obj.name.back() == '\r' || obj.name.back() == '\n')) obj.name.pop_back();
     obj.first_vertex = static_cast<std::uint32_t>(out.positions.size() / 3);
     obj.first_index = static_cast<std::uint32_t>(out.indices.size());

@@ -541,6 +541,26 @@ TEST(Import, LooseVerticesOffsetsAndSeveralLibrariesOnALine) {
   expect_input_error([&] { import_scene(dir / "m.obj", false); }, "m.obj:1: material library 'a.mtl b.mtl' not found");
 }
 
+// Faces before the first `o` line, or under a bare `o`, form an object named after the file,
+// as a file without `o`/`g` does (assimp named it "defaultobject", so `-a <stem>` failed); a
+// file that names an object "defaultobject" keeps it.
+TEST(Import, FacesBeforeTheFirstObjectAreNamedAfterTheFile) {
+  const auto dir = scratch("import_default_object");
+  write_file(dir / "pre.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no A\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 4 5 6\n");
+  auto s = import_scene(dir / "pre.obj", false);
+  ASSERT_EQ(s.objects.size(), 2u);
+  EXPECT_EQ(s.objects[0].name, "pre");
+  EXPECT_EQ(s.objects[1].name, "A");
+  write_file(dir / "bare.obj", "o\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  s = import_scene(dir / "bare.obj", false);
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0].name, "bare");
+  write_file(dir / "named.obj", "o defaultobject\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  s = import_scene(dir / "named.obj", false);
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0].name, "defaultobject");
+}
+
 // No zero or non-finite normal reaches the scene: a face without `vn` among faces with, a
 // `vn 0 0 0`, and a degenerate face get normals from their faces (a warning), (0, 0, 1) when
 // the faces have no area.
