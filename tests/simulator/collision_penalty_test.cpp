@@ -421,6 +421,8 @@ TEST(CollisionPenalty, BesideASharpRidgeThePointIsOutside) {
         const Vector3d f = force_at(set, p, &st);
         EXPECT_LT((f - want).norm(), 1e-9 * want.norm()) << "s " << s << " side " << side << ": " << f.transpose();
         EXPECT_EQ(st.max_penetration, 0.0);
+        // the start-up checks' distance (count_launched()) agrees with the force
+        EXPECT_NEAR(set.contact_distance(p, set.closest(p, 1.0)), e.norm(), 1e-12) << "s " << s << " side " << side;
         Eigen::Matrix3Xd x(3, 1), fc = Eigen::Matrix3Xd::Zero(3, 1);
         x.col(0) = p;
         clothsim::ContactCache cache;
@@ -436,6 +438,8 @@ TEST(CollisionPenalty, BesideASharpRidgeThePointIsOutside) {
       const Vector3d f = force_at(set, Vector3d(0.0, h - 0.02, 0.5), &st);
       EXPECT_GT(st.max_penetration, 0.0);
       EXPECT_GT(f.y(), 0.0) << f.transpose();
+      const Vector3d under(0.0, h - 0.02, 0.5);
+      EXPECT_LT(set.contact_distance(under, set.closest(under, 1.0)), 0.0);
     }
   }
 }

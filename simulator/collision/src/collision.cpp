@@ -1241,6 +1241,24 @@ void ColliderSet::compute_adjacency(std::size_t o) {
   }
 }
 
+double ColliderSet::contact_distance(const Eigen::Vector3d& p, const ColliderHit& h) const {
+  if (!h.valid() || h.object < 0 || static_cast<std::size_t>(h.object) >= objects_.size())
+    return std::numeric_limits<double>::quiet_NaN();
+  const auto o = static_cast<std::size_t>(h.object);
+  const Object& ob = objects_[o];
+  if (!(h.signed_distance < 0.0) || ob.open) return h.signed_distance;
+  const std::int32_t slot = ob.input_to_kept.at(static_cast<std::size_t>(h.triangle));
+  if (slot < 0) return h.signed_distance;
+  // as accumulate_penalty()'s respond_at() decides it
+  const double* t = tri_ptr(static_cast<std::uint32_t>(slot));
+  double d = 0.0, dir[3];
+  TriangleRegion region;
+  if (detail::edge_contact(p.data(), t, kBlock, false, d, dir, region) == 2 &&
+      outside_at_feature(o, p.data(), t, kBlock, region, dir))
+    return d;
+  return h.signed_distance;
+}
+
 bool ColliderSet::outside_at_feature(std::size_t o, const double p[3], const double* t, std::size_t stride,
                                      TriangleRegion region, const double dir[3]) const {
   const Object& ob = objects_[o];

@@ -68,12 +68,13 @@ BehindCount count_behind(const ColliderSet& set, std::size_t o, const Eigen::Mat
   // within the cloth's size of the collider (farther, contact is not in sight)
   const Eigen::Vector3d lo = points.rowwise().minCoeff(), hi = points.rowwise().maxCoeff();
   const double radius = std::max(2.0 * eps, (hi - lo).norm());
-  std::vector<ColliderHit> hits(set.object_count());
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     const Eigen::Vector3d p = points.col(i);
-    if (!p.allFinite() || set.query(p, radius, hits) == 0 || !hits[o].valid()) continue;
+    if (!p.allFinite()) continue;
+    const ColliderHit hit = set.query_object(o, p.data(), radius * radius, QueryMethod::Bvh, -1);
+    if (!hit.valid()) continue;
     Eigen::Vector3d a, b, c;
-    set.triangle(o, static_cast<std::size_t>(hits[o].triangle), a, b, c);
+    set.triangle(o, static_cast<std::size_t>(hit.triangle), a, b, c);
     const PointTriangle pt = point_triangle(p, a, b, c);
     if (pt.degenerate || !(pt.signed_distance < 0.0)) continue;
     // the foot of p on the plane on the triangle (its face or an edge): behind it, not beside
@@ -93,12 +94,15 @@ LaunchCount count_launched(const ColliderSet& set, std::size_t o, const Eigen::M
   if (!set.built() || o >= set.object_count() || set.triangle_count(o) == 0 || !(eps > 0.0) || !(k_rep > 0.0) ||
       points.cols() == 0 || mass.size() != points.cols())
     return out;
-  std::vector<ColliderHit> hits(set.object_count());
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     if (!pinned.empty() && pinned[static_cast<std::size_t>(i)]) continue;  // held: not thrown
     const Eigen::Vector3d p = points.col(i);
-    if (!p.allFinite() || set.query(p, eps, hits) == 0 || !hits[o].valid()) continue;
-    const double d = hits[o].signed_distance;
+    if (!p.allFinite()) continue;
+    // object o alone (all objects per object was objects^2 work)
+    const ColliderHit hit = set.query_object(o, p.data(), eps * eps, QueryMethod::Bvh, -1);
+    if (!hit.valid()) continue;
+    // signed as the force sees it: outside beside a sharp ridge is outside
+    const double d = set.contact_distance(p, hit);
     if (!(d >= 0.0 && d < eps)) continue;
     const double push = k_rep * (eps - d), weight = mass[i] * gravity;
     if (push > times * weight) {

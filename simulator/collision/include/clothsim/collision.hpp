@@ -240,6 +240,11 @@ struct ColliderSet {
   std::size_t query(const Eigen::Vector3d& p, double radius, std::span<ColliderHit> out,
                     QueryMethod method = QueryMethod::Bvh,
                     std::span<std::int32_t> hints = {}) const;
+  /// The signed distance of p from object h.object as the penalty force sees it: h's
+  /// (query()'s: the distance, signed by the answer's plane), made positive when p is behind
+  /// that plane but outside the solid beside a sharp ridge or tip (outside_at_feature()).
+  /// For start-up checks that must agree with the force; NaN for an invalid hit.
+  double contact_distance(const Eigen::Vector3d& p, const ColliderHit& h) const;
   /// The closest kept triangle of any object within radius (ties: lowest object, then
   /// lowest triangle index); invalid hit when none. For tests and picking helpers.
   ColliderHit closest(const Eigen::Vector3d& p, double radius,
