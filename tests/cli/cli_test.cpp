@@ -317,6 +317,29 @@ TEST(Cli, TwoOutputsAtOnePathAreRefusedBeforeRunning) {
   EXPECT_TRUE(fs::is_empty(d / "out"));
 }
 
+// A file output named as one of the files a folder output writes (the report as the step-0
+// OBJ) would replace it, or be replaced: refused before the run, also through ".."; another
+// name in that folder is fine. (--screenshot among --frames: tests/viewer.)
+TEST(Cli, AFileOutputAmongTheExportedFilesIsRefused) {
+  const fs::path d = fresh_dir("among_exported");
+  fs::create_directories(d / "exp");  // (a report's folder must exist)
+  for (const std::string& report : {(d / "exp" / "dice_000000.obj").string(), (d / "exp" / ".." / "exp" / "dice_000010.obj").string(),
+                                    (d / "exp" / "dice_1234567.obj").string()}) {
+    const Result r = run("--headless --quiet --steps 20 --export-obj " + q(d / "exp") + " --report " + q(report));
+    EXPECT_EQ(r.code, 2) << report << ": " << r.output;
+    EXPECT_NE(r.output.find("is one of the files --export-obj writes (dice_NNNNNN.obj)"), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::is_empty(d / "exp")) << report;
+  }
+  for (const char* name : {"dice.json", "dice_00001.obj", "dice_000000.json", "hanging_000000.obj"}) {
+    const Result r = run("--headless --quiet --steps 20 --export-obj " + q(d / "exp") + " --report " + q(d / "exp" / name));
+    EXPECT_EQ(r.code, 0) << name << ": " << r.output;
+    EXPECT_TRUE(fs::exists(d / "exp" / "dice_000000.obj"));
+    EXPECT_TRUE(fs::exists(d / "exp" / name));
+    fs::remove_all(d / "exp");
+    fs::create_directories(d / "exp");
+  }
+}
+
 TEST(Cli, ExportEveryWithoutExportObjIsBadInput) {
   const Result r = run("--headless --quiet --steps 5 --export-every 5");
   EXPECT_EQ(r.code, 2) << r.output;

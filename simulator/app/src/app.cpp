@@ -140,6 +140,30 @@ json options_json(const Options& o) {
               {"integrator", to_string(o.integrator)}};
 }
 
+// Whether `name` is prefix + at least `digits` digits + suffix: a file a run writes into a
+// folder (<scene>_<step>.obj, frame_<n>.png).
+bool generated_name(const std::string& name, const std::string& prefix, std::size_t digits, const std::string& suffix) {
+  if (name.size() < prefix.size() + digits + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+    return false;
+  const std::string mid = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+  return std::all_of(mid.begin(), mid.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// A file output that names one of the files a folder output writes (a report as
+// exp/dice_000000.obj): the run would replace one with the other. Empty, or why.
+std::string file_among_generated(std::string_view file_option, const std::string& file, std::string_view dir_option,
+                                 const std::string& dir, const std::string& prefix, std::size_t digits,
+                                 const std::string& suffix) {
+  if (file.empty() || dir.empty()) return {};
+  const fs::path f = io::output_identity(file);
+  if (f.parent_path() != fs::path(io::output_identity(dir)) ||
+      !generated_name(f.filename().string(), prefix, digits, suffix))
+    return {};
+  return std::string(file_option) + " '" + file + "' is one of the files " + std::string(dir_option) +
+         " writes (" + prefix + std::string(digits, 'N') + suffix + "): one would replace the other; name another file";
+}
+
 // One OBJ file <dir>/<scene>_<step>.obj by the output rule (clothsim/output_file.hpp);
 // `step` counts the user's steps of `dt` (not substeps). Returns empty or the error.
 std::string export_obj(const fs::path& dir, const b2o::Scene& scene, const Model& model, const State& s,
@@ -447,6 +471,17 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
            {"--screenshot", o_screenshot->count() ? screenshot : ""}, {"--frames", o_frames->count() ? frames : ""}});
       !why.empty())
     return bad_input(why);
+  for (const auto& [option, file] : {std::pair<std::string_view, std::string>{"--report", o_report->count() ? report : ""},
+                                     {"--screenshot", o_screenshot->count() ? screenshot : ""}}) {
+    if (const std::string why = file_among_generated(option, file, "--export-obj", o_export->count() ? export_dir : "",
+                                                     std::string(scene.name) + "_", 6, ".obj");
+        !why.empty())
+      return bad_input(why);
+    if (const std::string why =
+            file_among_generated(option, file, "--frames", o_frames->count() ? frames : "", "frame_", 5, ".png");
+        !why.empty())
+      return bad_input(why);
+  }
   if (o_export->count())
     if (const std::string why = io::check_output_dir(export_dir); !why.empty())
       return bad_input("--export-obj: " + why);

@@ -213,6 +213,14 @@ std::string check_output_dir(const std::string& dir) {
   }
 }
 
+std::string output_identity(const std::string& path) {
+  std::error_code ec;
+  fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  if (ec) p = fs::absolute(path).lexically_normal();
+  while (!p.empty() && !p.has_filename() && p != p.root_path()) p = p.parent_path();  // "dir/" is "dir"
+  return p.string();
+}
+
 std::string same_output(std::initializer_list<std::pair<std::string_view, std::string>> outputs) {
   std::vector<std::pair<std::string_view, fs::path>> seen;
   for (const auto& [option, path] : outputs) {
@@ -220,10 +228,7 @@ std::string same_output(std::initializer_list<std::pair<std::string_view, std::s
     struct stat st {};
     // A device (/dev/null) takes every output written into it: no output is lost there.
     if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) continue;
-    std::error_code ec;
-    fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
-    if (ec) p = fs::absolute(path).lexically_normal();
-    while (!p.empty() && !p.has_filename() && p != p.root_path()) p = p.parent_path();  // "dir/" is "dir"
+    const fs::path p = output_identity(path);
     for (const auto& [other, q] : seen)
       if (q == p) return std::string(other) + " and " + std::string(option) + " both name " + quote(path);
     seen.emplace_back(option, p);

@@ -53,6 +53,10 @@ std::string check_output_dir(const std::string& dir);
 /// name 'path'": the first output written would be lost to the second, or stop it.
 std::string same_output(std::initializer_list<std::pair<std::string_view, std::string>> outputs);
 
+/// The absolute path an output names, after `.`, `..` and symbolic links (of the part that
+/// exists), without a trailing '/': two outputs with the same identity are one file.
+std::string output_identity(const std::string& path);
+
 /// Writes `bytes` to `path` by the rule above. Empty on success, else a one-line error.
 /// SIGPIPE and SIGXFSZ are ignored while writing: a closed pipe or a file size limit is an
 /// error message, not a killed process.
