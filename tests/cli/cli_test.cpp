@@ -634,6 +634,12 @@ TEST(Cli, ViewerOptionsThatWouldDoNothingAreBadInput) {
     EXPECT_EQ(r.code, 2) << args << ": " << r.output;
     EXPECT_EQ(lines(r.output), 1) << r.output;
   }
+  // --frames records up to --seconds (or --steps): without either it is an option mistake, found
+  // before the model is built (it exited 1 after the stability analysis)
+  const Result frames = run("--frames " + q(d / "f"));
+  EXPECT_EQ(frames.code, 2) << frames.output;
+  EXPECT_NE(frames.output.find("error: --frames needs --seconds T"), std::string::npos) << frames.output;
+  EXPECT_EQ(frames.output.find("stability"), std::string::npos) << frames.output;
   const Result jpg = run("--seconds 0.1 --screenshot " + q(d / "a.jpg"));
   EXPECT_EQ(jpg.code, 2) << jpg.output;
   EXPECT_NE(jpg.output.find("name it *.png"), std::string::npos) << jpg.output;

@@ -457,6 +457,8 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
       if (o->count())
         return bad_input(o->get_name() + " is a viewer option, and --headless opens no viewer (drop one of them)");
   if (o_fps->count() && !o_frames->count()) return bad_input("--fps needs --frames DIR (the frames it paces)");
+  if (o_frames->count() && !o_seconds->count() && !o_steps->count())
+    return bad_input("--frames needs --seconds T (how much simulated time to record)");
   if (o_screenshot->count()) {  // (a name without an extension, such as /dev/null, is written into)
     std::string ext = std::filesystem::path(screenshot).extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -127,14 +127,15 @@ class Viewer {
   // --- offscreen: --screenshot / --frames ----------------------------------------------
   bool stop_asked() const { return opt_.interrupted != nullptr && *opt_.interrupted != 0; }
 
-  bool advance_to(double t) {
+  // `written`: what the output holds if it stops here (said when the state blows up).
+  bool advance_to(double t, const std::string& written) {
     const double dt = model_.options.dt;
     while (state_.t < t - 0.5 * dt) {
       if (stop_asked()) return false;
       if (!timed_step().finite) {
         std::fprintf(stderr, "clothsim: the simulation became non-finite at t = %.3f s (%s); "
-                     "no picture written (try a smaller --dt)\n", state_.t,
-                     of_dt_.step_label(state_.steps).c_str());
+                     "%s (try a smaller --dt)\n", state_.t,
+                     of_dt_.step_label(state_.steps).c_str(), written.c_str());
         return false;
       }
     }
@@ -160,7 +161,7 @@ class Viewer {
 
   int run_offscreen() {
     if (!opt_.screenshot.empty()) {
-      if (!advance_to(std::max(opt_.seconds, 0.0)))
+      if (!advance_to(std::max(opt_.seconds, 0.0), "no picture written"))
         return stop_asked() ? interrupted_offscreen("no picture written") : 1;
       if (!render_to_png(opt_.screenshot)) return 1;
     }
@@ -175,10 +176,9 @@ class Viewer {
       state_ = make_state(model_);
       const long frames = static_cast<long>(std::floor(opt_.seconds * opt_.fps + 1e-9)) + 1;
       for (long i = 0; i < frames; ++i) {
-        if (!advance_to(static_cast<double>(i) / opt_.fps) || stop_asked()) {
+        const std::string done = std::to_string(i) + " of " + std::to_string(frames) + " frames written (each whole)";
+        if (!advance_to(static_cast<double>(i) / opt_.fps, done) || stop_asked()) {
           if (!stop_asked()) return 1;
-          const std::string done = std::to_string(i) + " of " + std::to_string(frames) +
-                                   " frames written (each whole)";
           return interrupted_offscreen(done.c_str());
         }
         char name[32];
