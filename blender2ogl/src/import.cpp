@@ -312,8 +312,12 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
     out.timings_ms.emplace_back("pre-scan", lap_ms(t0));
     std::set<std::string> defined;  // materials of the libraries read
     bool library_missing = false;
-    std::size_t line_first = 0;  // `replaced` entry of the first library of an mtllib line of several
+    // the `replaced` entry of the first library of an mtllib line of several (-1: none), and
+    // per entry the libraries whose text it holds
+    std::ptrdiff_t line_first = -1;
+    std::map<std::ptrdiff_t, std::set<std::string>> joined_to;
     for (std::size_t i = 0; i < scan.mtllibs.size(); ++i) {
+      if (!scan.mtllib_joined[i]) line_first = -1;
       const std::string& lib = scan.mtllibs[i];
       const auto p = folder / lib;
       const std::string where = file.string() + ":" + std::to_string(scan.mtllib_lines[i]) + ": ";
@@ -327,15 +331,26 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
         for (MapKd& k : m.maps) map_kd.push_back({std::move(k), mtl});
         defined.insert(m.materials.begin(), m.materials.end());
         out.warnings.insert(out.warnings.end(), m.warnings.begin(), m.warnings.end());
-        // a line of several libraries: assimp reads the first, whose text carries the others'
+        // A line of several libraries: assimp reads the first, whose text carries the others'
+        // (each once). One entry per file: CheckedIO serves the first that matches, so a
+        // library named on several lines gathers what each of its lines joins to it.
         const bool joined = scan.mtllib_joined[i];
         const bool leads = !joined && i + 1 < scan.mtllibs.size() && scan.mtllib_joined[i + 1];
-        if ((joined || leads) && !m.cleaned) m.clean_text = read_text(mtl);
+        const std::string id = std::filesystem::weakly_canonical(std::filesystem::absolute(mtl), ec).string();
         if (joined) {
-          replaced[line_first].second.append("\n").append(m.clean_text);
-        } else if (m.cleaned || leads) {
-          replaced.emplace_back(mtl, std::move(m.clean_text));
-          line_first = replaced.size() - 1;
+          if (line_first >= 0 && joined_to[line_first].insert(id).second)
+            replaced[static_cast<std::size_t>(line_first)].second.append("\n").append(m.cleaned ? m.clean_text
+                                                                                                : read_text(mtl));
+        } else {
+          std::ptrdiff_t entry = -1;
+          for (std::size_t k = 0; k < replaced.size() && entry < 0; ++k)
+            if (std::filesystem::equivalent(replaced[k].first, mtl, ec)) entry = static_cast<std::ptrdiff_t>(k);
+          if (entry < 0 && (m.cleaned || leads)) {
+            replaced.emplace_back(mtl, m.cleaned ? std::move(m.clean_text) : read_text(mtl));
+            entry = static_cast<std::ptrdiff_t>(replaced.size()) - 1;
+            joined_to[entry].insert(id);
+          }
+          line_first = leads ? entry : -1;
         }
         out.inputs_read.push_back(std::filesystem::absolute(mtl));
       };
@@ -344,6 +359,11 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
           throw InputError(where + "material library " + quote_input(lib) + " not found (" + p.string() +
                            "); --allow-missing converts without it");
         library_missing = true;
+        if (scan.mtllib_joined[i]) {  // (not the line's first: assimp does not look for it)
+          out.warnings.push_back(where + "material library " + quote_input(lib) +
+                                 " not found; the materials it would define get a default material");
+          continue;
+        }
         // assimp then reads <model>.mtl instead, when there is one: check that one.
         const auto fallback = folder / (file.stem().string() + ".mtl");
         if (std::filesystem::is_regular_file(fallback, ec)) {
@@ -519,7 +539,9 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
     if (is_obj) obj.name = decode_object_name(obj.name);
     // OBJ without `o`/`g`: assimp invents a name; the object is named after the file.
     // So are faces before the first `o`/`g`, or under a bare `o` (assimp: "defaultobject").
-    if (is_obj && (scan.groups == 0 || (obj.name == "defaultobject" && scan.object_lines.count("defaultobject") == 0)))
+    // (unless an object has that name: the two would join into one, a following `o <stem>`)
+    if (is_obj && (scan.groups == 0 || (obj.name == "defaultobject" && scan.object_lines.count("defaultobject") == 0 &&
+                                        scan.object_lines.count(file.stem().string()) == 0)))
       obj.name = file.stem().string();
     while (!obj.name.empty() && (obj.name.back() == '\r' || obj.name.back() == '\n')) obj.name.pop_back();
     obj.first_vertex = static_cast<std::uint32_t>(out.positions.size() / 3);

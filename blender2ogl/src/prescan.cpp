@@ -428,8 +428,13 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
         std::vector<std::string> words;
         std::istringstream split(name);
         for (std::string w; split >> w;) words.push_back(w);
+        // (or every word is named *.mtl: then a missing one is reported by its own name)
+        const auto mtl_named = [](const std::string& w) {
+          return w.size() > 4 && (w.compare(w.size() - 4, 4, ".mtl") == 0 || w.compare(w.size() - 4, 4, ".MTL") == 0);
+        };
         if (std::all_of(words.begin(), words.end(),
-                        [&](const std::string& w) { return std::filesystem::is_regular_file(folder / w, ec); }))
+                        [&](const std::string& w) { return std::filesystem::is_regular_file(folder / w, ec); }) ||
+            std::all_of(words.begin(), words.end(), mtl_named))
           libs = words, name = words.front();
       }
       // assimp opens the rest of the line as it is: trailing spaces or a comment lost the
@@ -474,7 +479,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
         if (l.count++ == 0) l.first = i + 1;
       }
     for (const auto& [name, m] : made)
-      if (const auto it = loose.find(&m); it != loose.end())
+      if (const auto it = loose.find(&m); it != loose.end() && !is_pin_object_name(name))  // (a helper's are pins)
         scan.warnings.push_back(file.string() + ":" + std::to_string(m.line) + ": object " + quote_input(name) + ": " +
                                 std::to_string(it->second.count) + " of its " + std::to_string(m.vertices) +
                                 " vertices " + (it->second.count == 1 ? "is" : "are") +

@@ -536,9 +536,32 @@ TEST(Import, LooseVerticesOffsetsAndSeveralLibrariesOnALine) {
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.materials[0].diffuse[1], 1.0f);
   EXPECT_TRUE(s.warnings.empty());
-  // and a missing one of several is named
+  // a library on two lines, each joining another to it (assimp is served one text per file)
+  write_file(dir / "a.mtl", "newmtl Red\nKd 1 0 0\nillum 2\n");
+  write_file(dir / "c.mtl", "newmtl Green\nKd 0 1 0\n");
+  const std::string three = "o A\nv 0 0 0\nv 1 0 0\nv 0 0 1\nusemtl Red\nf 1 2 3\no B\nv 0 1 0\nv 1 1 0\nv 0 1 1\n"
+                            "usemtl Blue\nf 4 5 6\no C\nv 0 2 0\nv 1 2 0\nv 0 2 1\nusemtl Green\nf 7 8 9\n";
+  for (const char* lines : {"mtllib a.mtl b.mtl\nmtllib a.mtl c.mtl\n", "mtllib a.mtl\nmtllib a.mtl b.mtl c.mtl\n"}) {
+    write_file(dir / "two.obj", lines + three);
+    s = import_scene(dir / "two.obj", false);
+    ASSERT_EQ(s.materials.size(), 3u) << lines;
+    for (const auto& mat : s.materials)  // not assimp's default grey
+      EXPECT_EQ(mat.diffuse[mat.name == "Red" ? 0 : mat.name == "Green" ? 1 : 2], 1.0f) << lines << mat.name;
+    EXPECT_TRUE(s.warnings.empty()) << lines << s.warnings[0];
+  }
+  // a missing one of several is named by itself; with --allow-missing the others are read
   fs::remove(dir / "b.mtl");
-  expect_input_error([&] { import_scene(dir / "m.obj", false); }, "m.obj:1: material library 'a.mtl b.mtl' not found");
+  expect_input_error([&] { import_scene(dir / "m.obj", false); }, "m.obj:1: material library 'b.mtl' not found");
+  s = import_scene(dir / "m.obj", false, true);
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials[0].diffuse[0], 1.0f);  // Red, from a.mtl
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("m.obj:1: material library 'b.mtl' not found"), std::string::npos) << s.warnings[0];
+  // a pin helper's vertices are pins, face or not: no loose-vertex warning
+  write_file(dir / "pins.obj", "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n"
+                               "o Cloth_pins\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 5 6 7\n");
+  s = import_scene(dir / "pins.obj", false);
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings[0];
 }
 
 // Faces before the first `o` line, or under a bare `o`, form an object named after the file,
@@ -555,6 +578,12 @@ TEST(Import, FacesBeforeTheFirstObjectAreNamedAfterTheFile) {
   s = import_scene(dir / "bare.obj", false);
   ASSERT_EQ(s.objects.size(), 1u);
   EXPECT_EQ(s.objects[0].name, "bare");
+  // an object named like the file would join them: the first keeps assimp's name
+  write_file(dir / "pre2.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no pre2\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 4 5 6\n");
+  s = import_scene(dir / "pre2.obj", false);
+  ASSERT_EQ(s.objects.size(), 2u);
+  EXPECT_EQ(s.objects[0].name, "defaultobject");
+  EXPECT_EQ(s.objects[1].name, "pre2");
   write_file(dir / "named.obj", "o defaultobject\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   s = import_scene(dir / "named.obj", false);
   ASSERT_EQ(s.objects.size(), 1u);
