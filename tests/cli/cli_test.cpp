@@ -340,6 +340,19 @@ TEST(Cli, AFileOutputAmongTheExportedFilesIsRefused) {
   }
 }
 
+// A finite state whose kinetic energy overflows a double ended with exit 0, the summary saying
+// "inf J" and the report null: a failure (exit 1) that says why, in the report's warnings too.
+TEST(Cli, KineticEnergyOverflowIsAFailure) {
+  const fs::path d = fresh_dir("ke_overflow");
+  const Result r = run("--headless --seconds 1 --mass 1e306 --report " + q(d / "r.json"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("error: the kinetic energy overflows a double at t = 1 s"), std::string::npos) << r.output;
+  const auto j = read_json(d / "r.json");
+  EXPECT_TRUE(j["kinetic_energy"].is_null());
+  EXPECT_NE(j["warnings"].back().get<std::string>().find("kinetic energy overflows"), std::string::npos) << j["warnings"];
+  EXPECT_EQ(run("--headless --quiet --seconds 1 --mass 1e300").code, 0);  // large, but in range
+}
+
 TEST(Cli, ExportEveryWithoutExportObjIsBadInput) {
   const Result r = run("--headless --quiet --steps 5 --export-every 5");
   EXPECT_EQ(r.code, 2) << r.output;

@@ -686,6 +686,17 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   }
   const double ke = kinetic_energy(model, state);
   auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  // A finite state whose kinetic energy overflows (--mass 1e306, --gravity 1e200): the run
+  // is out of a double's range, a failure like a non-finite state (it ended with exit 0, the
+  // summary saying "inf J" and the report null).
+  const bool ke_overflow = finite && !interrupted && !std::isfinite(ke);
+  if (ke_overflow) {
+    const std::string why = "error: the kinetic energy overflows a double at t = " + fmt(state.t) +
+                            " s: the masses and speeds are out of range; look at the sizes of the options "
+                            "(--mass, --gravity, --k-struct, --k-rep)";
+    std::cerr << "clothsim: " << why << "\n";
+    warnings.push_back(why);
+  }
 
   // The collision search reaches 2 eps behind a surface: a mass deeper than that is not seen,
   // so max_penetration is at most 2 eps and is no depth. Past eps the contact lets go (no
@@ -759,7 +770,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
       return kExitFailed;
     }
   }
-  if (!finite) return kExitFailed;
+  if (!finite || ke_overflow) return kExitFailed;
   if (interrupted) return kExitInterrupted;
   if (!quiet) {
     std::cout << model.scene_name << ": " << done << " steps of " << opts.dt << " s";
