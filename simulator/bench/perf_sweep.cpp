@@ -196,10 +196,10 @@ constexpr const char* kUsage =
     "N x N cloth over an icosphere, each next to its reference in the same run, then the baked skirts.\n"
     "  --quick          N <= 64, levels <= 4, 2 repetitions (a minute instead of ~10)\n"
     "  --csv DIR        also write springs.csv, collision.csv, collision_speed.csv, skirt.csv into DIR\n"
-    "  --reps R         repetitions per measurement, the minimum is shown (default 5)\n"
-    "  --max-n N        largest cloth side (default 512, at least 16)\n"
-    "  --max-level L    finest icosphere level (default 8: 1.3M triangles; at least 3)\n"
-    "  --brute-pairs P  point-triangle pairs per brute-force repetition (default 3e7)\n"
+    "  --reps R         repetitions per measurement, the minimum is shown (default 5; 1..1000)\n"
+    "  --max-n N        largest cloth side (default 512; 16..2048)\n"
+    "  --max-level L    finest icosphere level (default 8: 1.3M triangles; 3..9)\n"
+    "  --brute-pairs P  point-triangle pairs per brute-force repetition (default 3e7; 1..1e11)\n"
     "Exit codes: 0 ok, 1 a 2-thread run differed or a CSV could not be written, 2 bad usage.\n";
 
 int main(int argc, char** argv) {
@@ -241,8 +241,11 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (g_reps < 1 || max_n < 16 || max_level < 3 || brute_pairs < 1) {
-    std::cerr << "perf_sweep: error: need --reps >= 1, --max-n >= 16, --max-level >= 3, --brute-pairs >= 1\n";
+  // (upper limits: --max-n 70000 or --max-level 17 ran out of memory and aborted)
+  if (g_reps < 1 || g_reps > 1000 || max_n < 16 || max_n > 2048 || max_level < 3 || max_level > 9 || brute_pairs < 1 ||
+      brute_pairs > 1e11) {
+    std::cerr << "perf_sweep: error: need --reps 1..1000, --max-n 16..2048, --max-level 3..9 (20 * 4^9 = 5.2M "
+                 "triangles), --brute-pairs 1..1e11\n";
     return 2;
   }
   if (quick) max_n = std::min(max_n, 64), max_level = std::min(max_level, 4), g_reps = std::min(g_reps, 2);

@@ -7,6 +7,7 @@
 //   perf stat -e instructions:u build/bin/bench_collision_sliding 7 400
 //   perf stat -e instructions:u build/bin/bench_collision_sliding 7 0
 // It prints the share of the calls certified without a search and a checksum of the forces.
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <cstdlib>
@@ -21,10 +22,16 @@ namespace {
 
 using clothsim::bench::shell_points;
 
+// A finite number, the whole argument.
 bool number(const char* text, double& out) {
   char* end = nullptr;
   out = std::strtod(text, &end);
-  return end != text && *end == '\0';
+  return end != text && *end == '\0' && std::isfinite(out);
+}
+
+// A whole number in [lo, hi], the whole argument.
+bool whole(const char* text, double lo, double hi, double& out) {
+  return number(text, out) && out == std::floor(out) && out >= lo && out <= hi;
 }
 
 }  // namespace
@@ -39,11 +46,11 @@ int main(int argc, char** argv) {
                 argv[0]);
     return 0;
   }
-  if (argc < 3 || argc > 6 || !number(argv[1], level) || !number(argv[2], calls) ||
+  if (argc < 3 || argc > 6 || !whole(argv[1], 0, 9, level) || !whole(argv[2], 0, 1e12, calls) ||
       (argc > 3 && !number(argv[3], step)) || (argc > 4 && !number(argv[4], lo)) ||
-      (argc > 5 && !number(argv[5], hi)) || level < 0 || level > 9 || calls < 0 || !(hi >= lo)) {
+      (argc > 5 && !number(argv[5], hi)) || !(hi >= lo)) {
     std::fprintf(stderr, "usage: %s LEVEL CALLS [STEP_M=2e-4 [LO=1.0 [HI=1.1]]]\n"
-                 "  LEVEL 0-9 (20 * 4^LEVEL triangles), CALLS >= 0, LO <= HI\n", argv[0]);
+                 "  LEVEL 0-9 (20 * 4^LEVEL triangles), CALLS 0..1e12, whole; finite numbers, LO <= HI\n", argv[0]);
     return 2;
   }
   const auto mesh = clothsim::meshes::icosphere(static_cast<int>(level), 1.0);
