@@ -121,6 +121,9 @@ TEST(Cli, BadValuesExitTwoWithAMessageAndWriteNothing) {
     EXPECT_FALSE(fs::exists(report)) << c.args;
   }
   EXPECT_TRUE(fs::is_empty(d));
+  // spaces around a number, at either end, are read alike ('0.005 ' was "Could not convert")
+  for (const char* dt : {"' 0.005'", "'0.005 '", "' 0.005\t'"})
+    EXPECT_EQ(run(std::string("--headless --quiet --steps 1 --dt ") + dt).code, 0) << dt;
 }
 
 // Runs that would never end are refused before they start (exit 2, one line, the count):

@@ -291,23 +291,26 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   const CLI::Validator a_number(
       [](std::string& text) {
         if (text.find_first_not_of(" \t") == std::string::npos) return std::string("needs a number, got an empty value");
+        // (spaces around the number, as a shell variable may leave them: both ends alike)
+        text.erase(0, text.find_first_not_of(" \t"));
+        text.erase(text.find_last_not_of(" \t") + 1);
         if (text.find_first_of("xX") != std::string::npos) return "takes a decimal number, got '" + text + "'";
         return std::string();
       },
       "");
   app.add_flag("--headless", headless, "Run without a window" );
-  auto* o_seconds = app.add_option("--seconds", seconds, "Simulated seconds to run (default 20 headless; the viewer runs until closed)")->check(a_number);
+  auto* o_seconds = app.add_option("--seconds", seconds, "Simulated seconds to run (default 20 headless; the viewer runs until closed)")->transform(a_number);
   // Counts are read as text and parsed below: CLI11 wraps -3 to 2^64-3 and saturates overflow.
   auto* o_steps = app.add_option("--steps", steps_text, "Number of steps to run instead of --seconds (1..1000000000)");
   o_steps->excludes(o_seconds);
-  auto* o_dt = app.add_option("--dt", dt, "Step size h, s (seed: -step)")->check(a_number);
-  auto* o_mass = app.add_option("--mass", mass, "Mass per point, kg (seed: -mass)")->check(a_number);
-  auto* o_ks = app.add_option("--k-struct", k_struct, "Structural spring stiffness, N/m (seed: -stiff)")->check(a_number);
-  auto* o_kb = app.add_option("--k-bend", k_bend, "Bend spring stiffness, N/m (seed: -wstiff)")->check(a_number);
-  auto* o_damp = app.add_option("--damping", damping, "Damping gamma of eq. 6, N s/m (seed: -damp)")->check(a_number);
-  auto* o_g = app.add_option("--gravity", gravity, "Gravity, m/s^2, pointing down -Y")->check(a_number);
-  auto* o_eps = app.add_option("--epsilon", epsilon, "Collision band epsilon of eq. 12, m")->check(a_number);
-  auto* o_krep = app.add_option("--k-rep", k_rep, "Penalty stiffness k_rep of eq. 12, N/m")->check(a_number);
+  auto* o_dt = app.add_option("--dt", dt, "Step size h, s (seed: -step)")->transform(a_number);
+  auto* o_mass = app.add_option("--mass", mass, "Mass per point, kg (seed: -mass)")->transform(a_number);
+  auto* o_ks = app.add_option("--k-struct", k_struct, "Structural spring stiffness, N/m (seed: -stiff)")->transform(a_number);
+  auto* o_kb = app.add_option("--k-bend", k_bend, "Bend spring stiffness, N/m (seed: -wstiff)")->transform(a_number);
+  auto* o_damp = app.add_option("--damping", damping, "Damping gamma of eq. 6, N s/m (seed: -damp)")->transform(a_number);
+  auto* o_g = app.add_option("--gravity", gravity, "Gravity, m/s^2, pointing down -Y")->transform(a_number);
+  auto* o_eps = app.add_option("--epsilon", epsilon, "Collision band epsilon of eq. 12, m")->transform(a_number);
+  auto* o_krep = app.add_option("--k-rep", k_rep, "Penalty stiffness k_rep of eq. 12, N/m")->transform(a_number);
   auto* o_report = app.add_option("--report", report, "Write a JSON report of the run to this file");
   auto* o_export = app.add_option("--export-obj", export_dir, "Write the cloth meshes as OBJ files into this directory");
   auto* o_export_every = app.add_option("--export-every", export_every_text,

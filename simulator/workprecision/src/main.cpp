@@ -179,13 +179,13 @@ int main(int argc, char** argv) {
   for (const std::string& name : methods) {
     const auto m = clothsim::parse_integrator(name);
     if (!m) {
-      std::cerr << "clothsim_wp: --integrators: unknown integrator '" << name << "' (known: "
+      std::cerr << "clothsim_wp: error: --integrators: unknown integrator '" << name << "' (known: "
                 << clothsim::integrator_names() << ")\n";
       return 2;
     }
     // (given twice, its points were merged and its order came out as nonsense)
     if (std::find(settings.methods.begin(), settings.methods.end(), *m) != settings.methods.end()) {
-      std::cerr << "clothsim_wp: --integrators: '" << name << "' given twice\n";
+      std::cerr << "clothsim_wp: error: --integrators: '" << name << "' given twice\n";
       return 2;
     }
     settings.methods.push_back(*m);
@@ -193,20 +193,20 @@ int main(int argc, char** argv) {
   std::vector<SceneEntry> todo;
   const auto all = baked_scenes();
   if (all.empty()) {
-    std::cerr << "clothsim_wp: built without any of the scenes skirt, hanging\n";
+    std::cerr << "clothsim_wp: error: built without any of the scenes skirt, hanging\n";
     return 2;
   }
   for (const std::string& name : scenes) {
     bool found = false;
     for (const auto& e : todo)
       if (name == e.name) {
-        std::cerr << "clothsim_wp: --scene: '" << name << "' given twice\n";
+        std::cerr << "clothsim_wp: error: --scene: '" << name << "' given twice\n";
         return 2;
       }
     for (const auto& e : all)
       if (name == e.name) todo.push_back(e), found = true;
     if (!found) {
-      std::cerr << "clothsim_wp: --scene: '" << name << "' is not one of this tool's scenes (" << known << ")\n";
+      std::cerr << "clothsim_wp: error: --scene: '" << name << "' is not one of this tool's scenes (" << known << ")\n";
       return 2;
     }
   }
