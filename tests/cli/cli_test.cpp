@@ -356,6 +356,20 @@ TEST(Cli, KineticEnergyOverflowIsAFailure) {
   EXPECT_EQ(run("--headless --quiet --seconds 1 --mass 1e300").code, 0);  // large, but in range
 }
 
+// fast-mass-spring and XPBD take velocities from position differences: a step whose motion
+// g h^2 is near the positions' rounding gives velocities of rounding (XPBD at dt 1e-15 lost
+// gravity): warned, with the smallest sound step; a sound step is not warned.
+TEST(Cli, PositionBasedMethodsWarnOfStepsBelowThePositionsRounding) {
+  for (const char* method : {"fast-mass-spring", "xpbd"}) {
+    const Result tiny = run(std::string("--headless --quiet --steps 2 --dt 1e-9 --integrator ") + method);
+    EXPECT_EQ(tiny.code, 0) << tiny.output;
+    EXPECT_NE(tiny.output.find(std::string("warning: ") + method + " takes velocities from position differences"),
+              std::string::npos) << tiny.output;
+    EXPECT_EQ(run(std::string("--headless --quiet --steps 2 --dt 1e-4 --integrator ") + method).output, "") << method;
+  }
+  EXPECT_EQ(run("--headless --quiet --steps 2 --dt 1e-9").output, "");  // symplectic Euler keeps v itself
+}
+
 TEST(Cli, ExportEveryWithoutExportObjIsBadInput) {
   const Result r = run("--headless --quiet --steps 5 --export-every 5");
   EXPECT_EQ(r.code, 2) << r.output;
