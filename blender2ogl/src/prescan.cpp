@@ -132,6 +132,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     bool used = false;
   };
   std::map<std::string, Made> made;
+  Made outside;  // the vertices written under no object name
   std::vector<Made*> vertex_object;  // per `v`: the object it was written under (null: none)
   std::vector<std::uint8_t> vertex_used;  // per `v`: whether a face uses it
   while (!rest.empty()) {
@@ -244,8 +245,9 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       count_in({3, 4, 6}, "3 coordinates (x y z), 4 (x y z w) or 6 (x y z r g b)");
       if (tok.size() == 5 && std::strtod(std::string(tok[4]).c_str(), nullptr) == 0.0) fail(file, start_line, "'v' with w = 0 (a point at infinity)");
       ++scan.positions;
-      Made* under = current_group.empty() ? nullptr : &made[current_group];
-      if (under) ++under->vertices;
+      // (vertices before any `o`/`g`, or under a bare `o`: `outside`, for the loose-vertex check)
+      Made* under = current_group.empty() ? &outside : &made[current_group];
+      if (under->vertices++ == 0 && under == &outside) outside.line = start_line;
       vertex_object.push_back(under);
       vertex_used.push_back(0);
       if (in_pin_object) {
@@ -478,6 +480,12 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
         Loose& l = loose[vertex_object[i]];
         if (l.count++ == 0) l.first = i + 1;
       }
+    if (const auto it = loose.find(&outside); it != loose.end())
+      scan.warnings.push_back(file.string() + ":" + std::to_string(outside.line) + ": " +
+                              std::to_string(it->second.count) + " of the " + std::to_string(outside.vertices) +
+                              " vertices before any object name " + (it->second.count == 1 ? "is" : "are") +
+                              " in no face (the first: vertex " + std::to_string(it->second.first) +
+                              "): left out (no mass, not drawn)");
     for (const auto& [name, m] : made)
       if (const auto it = loose.find(&m); it != loose.end() && !is_pin_object_name(name))  // (a helper's are pins)
         scan.warnings.push_back(file.string() + ":" + std::to_string(m.line) + ": object " + quote_input(name) + ": " +

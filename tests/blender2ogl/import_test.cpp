@@ -504,6 +504,12 @@ TEST(Import, LooseVerticesOffsetsAndSeveralLibrariesOnALine) {
   ASSERT_EQ(s.warnings.size(), 1u);
   EXPECT_NE(s.warnings[0].find("loose.obj:1: object 'Cone': 1 of its 5 vertices is in no face (the first: vertex 5)"),
             std::string::npos) << s.warnings[0];
+  // the same without any object name (the file is the object)
+  write_file(dir / "plain.obj", "# a comment\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nv 6 6 6\nf 1 2 3\n");
+  s = import_scene(dir / "plain.obj", false);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("plain.obj:2: 2 of the 5 vertices before any object name are in no face (the first: "
+                               "vertex 4)"), std::string::npos) << s.warnings[0];
 
   write_file(dir / "tex.png", read_file(fixture("checker.png")));
   write_file(dir / "b.mtl", "newmtl Blue\nKd 0 0 1\n");
