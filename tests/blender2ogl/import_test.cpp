@@ -575,25 +575,24 @@ TEST(Import, LooseVerticesOffsetsAndSeveralLibrariesOnALine) {
 // file that names an object "defaultobject" keeps it.
 TEST(Import, FacesBeforeTheFirstObjectAreNamedAfterTheFile) {
   const auto dir = scratch("import_default_object");
-  write_file(dir / "pre.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no A\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 4 5 6\n");
-  auto s = import_scene(dir / "pre.obj", false);
-  ASSERT_EQ(s.objects.size(), 2u);
-  EXPECT_EQ(s.objects[0].name, "pre");
-  EXPECT_EQ(s.objects[1].name, "A");
-  write_file(dir / "bare.obj", "o\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-  s = import_scene(dir / "bare.obj", false);
-  ASSERT_EQ(s.objects.size(), 1u);
-  EXPECT_EQ(s.objects[0].name, "bare");
-  // an object named like the file would join them: the first keeps assimp's name
-  write_file(dir / "pre2.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no pre2\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 4 5 6\n");
-  s = import_scene(dir / "pre2.obj", false);
-  ASSERT_EQ(s.objects.size(), 2u);
-  EXPECT_EQ(s.objects[0].name, "defaultobject");
-  EXPECT_EQ(s.objects[1].name, "pre2");
-  write_file(dir / "named.obj", "o defaultobject\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-  s = import_scene(dir / "named.obj", false);
-  ASSERT_EQ(s.objects.size(), 1u);
-  EXPECT_EQ(s.objects[0].name, "defaultobject");
+  const struct {
+    const char* file;
+    const char* text;
+    std::vector<std::string> names;
+  } cases[] = {
+      {"pre.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no A\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 4 5 6\n", {"pre", "A"}},
+      {"bare.obj", "o\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", {"bare"}},
+      // an object named like the file would join them: the first keeps assimp's name
+      {"pre2.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no pre2\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 4 5 6\n",
+       {"defaultobject", "pre2"}},
+      {"named.obj", "o defaultobject\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", {"defaultobject"}}};
+  for (const auto& c : cases) {
+    write_file(dir / c.file, c.text);
+    const auto s = import_scene(dir / c.file, false);
+    std::vector<std::string> names;
+    for (const auto& o : s.objects) names.push_back(o.name);
+    EXPECT_EQ(names, c.names) << c.file;
+  }
 }
 
 // No zero or non-finite normal reaches the scene: a face without `vn` among faces with, a
