@@ -320,7 +320,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
   std::string threads_text = "auto";
   app.add_option("--threads", threads_text,
                  "Threads for the force loops: auto (default: measures one thread and all cores while it "
-                 "runs and keeps the faster), N (1..1024) or 0 (all cores); the same results for any count");
+                 "runs and keeps the faster), N (1..1024) or 0 (all cores), as asked even when another program keeps a core busy (then 2 threads can be 50x slower than 1); the same results for any count");
   // issue 5: integrator and stability guard (integrators.hpp, stability.hpp, docs/stability.md)
   std::string integrator_name = to_string(Integrator::SymplecticEuler), substeps_text = "auto";
   app.add_option("--integrator", integrator_name,
