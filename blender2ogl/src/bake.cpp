@@ -22,7 +22,7 @@ struct Key {
 };
 struct KeyHash {
   std::size_t operator()(const Key& k) const noexcept {
-    std::uint64_t h = 1469598103934665603ull;
+    std::uint64_t h = 14695981039346656037ull;
     for (std::uint32_t v : {k.x, k.y, k.z}) h = (h ^ v) * 1099511628211ull;
     return static_cast<std::size_t>(h);
   }

@@ -311,7 +311,7 @@ std::string header(const Scene& s, const Options& opt, const Layout* text_layout
 }  // namespace
 
 std::string hash_hex(const std::string& bytes) {
-  std::uint64_t h = 1469598103934665603ull;
+  std::uint64_t h = 14695981039346656037ull;
   for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
   char buf[20];
   std::snprintf(buf, sizeof buf, "%016" PRIx64, h);

@@ -127,7 +127,7 @@ inline void write_file(const std::filesystem::path& p, const std::string& bytes)
 }
 
 inline std::uint64_t fnv1a(const std::string& s) {
-  std::uint64_t h = 1469598103934665603ull;
+  std::uint64_t h = 14695981039346656037ull;
   for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
   return h;
 }

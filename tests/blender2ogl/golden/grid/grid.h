@@ -11,85 +11,85 @@
 #define B2O_GEN_GRID_H
 
 #ifdef __ASSEMBLER__
-/* Bulk arrays, assembled through grid.S: the bytes of grid.877821939f437456.bin
-   (1400 bytes, fnv1a64 877821939f437456), found through -I<dir>. */
+/* Bulk arrays, assembled through grid.S: the bytes of grid.37536d974c7f0738.bin
+   (1400 bytes, fnv1a64 37536d974c7f0738), found through -I<dir>. */
 	.section .rodata.b2o.grid,"a",@progbits
 	.balign 16
 	.globl b2o_grid_positions
 	.type b2o_grid_positions, @object
 	.size b2o_grid_positions, 156
 b2o_grid_positions:
-	.incbin "grid.877821939f437456.bin", 0, 156
+	.incbin "grid.37536d974c7f0738.bin", 0, 156
 	.balign 16
 	.globl b2o_grid_normals
 	.type b2o_grid_normals, @object
 	.size b2o_grid_normals, 156
 b2o_grid_normals:
-	.incbin "grid.877821939f437456.bin", 160, 156
+	.incbin "grid.37536d974c7f0738.bin", 160, 156
 	.balign 16
 	.globl b2o_grid_texcoords
 	.type b2o_grid_texcoords, @object
 	.size b2o_grid_texcoords, 104
 b2o_grid_texcoords:
-	.incbin "grid.877821939f437456.bin", 320, 104
+	.incbin "grid.37536d974c7f0738.bin", 320, 104
 	.balign 16
 	.globl b2o_grid_indices
 	.type b2o_grid_indices, @object
 	.size b2o_grid_indices, 120
 b2o_grid_indices:
-	.incbin "grid.877821939f437456.bin", 432, 120
+	.incbin "grid.37536d974c7f0738.bin", 432, 120
 	.balign 16
 	.globl b2o_grid_texture0
 	.type b2o_grid_texture0, @object
 	.size b2o_grid_texture0, 81
 b2o_grid_texture0:
-	.incbin "grid.877821939f437456.bin", 560, 81
+	.incbin "grid.37536d974c7f0738.bin", 560, 81
 	.balign 16
 	.globl b2o_grid_cloth0_rest_positions
 	.type b2o_grid_cloth0_rest_positions, @object
 	.size b2o_grid_cloth0_rest_positions, 108
 b2o_grid_cloth0_rest_positions:
-	.incbin "grid.877821939f437456.bin", 656, 108
+	.incbin "grid.37536d974c7f0738.bin", 656, 108
 	.balign 16
 	.globl b2o_grid_cloth0_mass_vertex_offsets
 	.type b2o_grid_cloth0_mass_vertex_offsets, @object
 	.size b2o_grid_cloth0_mass_vertex_offsets, 40
 b2o_grid_cloth0_mass_vertex_offsets:
-	.incbin "grid.877821939f437456.bin", 768, 40
+	.incbin "grid.37536d974c7f0738.bin", 768, 40
 	.balign 16
 	.globl b2o_grid_cloth0_mass_vertices
 	.type b2o_grid_cloth0_mass_vertices, @object
 	.size b2o_grid_cloth0_mass_vertices, 36
 b2o_grid_cloth0_mass_vertices:
-	.incbin "grid.877821939f437456.bin", 816, 36
+	.incbin "grid.37536d974c7f0738.bin", 816, 36
 	.balign 16
 	.globl b2o_grid_cloth0_vertex_mass
 	.type b2o_grid_cloth0_vertex_mass, @object
 	.size b2o_grid_cloth0_vertex_mass, 36
 b2o_grid_cloth0_vertex_mass:
-	.incbin "grid.877821939f437456.bin", 864, 36
+	.incbin "grid.37536d974c7f0738.bin", 864, 36
 	.balign 16
 	.globl b2o_grid_cloth0_springs
 	.type b2o_grid_cloth0_springs, @object
 	.size b2o_grid_cloth0_springs, 384
 b2o_grid_cloth0_springs:
-	.incbin "grid.877821939f437456.bin", 912, 384
+	.incbin "grid.37536d974c7f0738.bin", 912, 384
 	.balign 16
 	.globl b2o_grid_cloth0_triangles
 	.type b2o_grid_cloth0_triangles, @object
 	.size b2o_grid_cloth0_triangles, 96
 b2o_grid_cloth0_triangles:
-	.incbin "grid.877821939f437456.bin", 1296, 96
+	.incbin "grid.37536d974c7f0738.bin", 1296, 96
 	.balign 16
 	.globl b2o_grid_cloth0_pins
 	.type b2o_grid_cloth0_pins, @object
 	.size b2o_grid_cloth0_pins, 8
 b2o_grid_cloth0_pins:
-	.incbin "grid.877821939f437456.bin", 1392, 8
-	.globl b2o_grid_bake_61e2c840d54b2dd6
-	.type b2o_grid_bake_61e2c840d54b2dd6, @object
-	.size b2o_grid_bake_61e2c840d54b2dd6, 1
-b2o_grid_bake_61e2c840d54b2dd6:
+	.incbin "grid.37536d974c7f0738.bin", 1392, 8
+	.globl b2o_grid_bake_6064a8196480a129
+	.type b2o_grid_bake_6064a8196480a129, @object
+	.size b2o_grid_bake_6064a8196480a129, 1
+b2o_grid_bake_6064a8196480a129:
 	.byte 0
 	.section .note.GNU-stack,"",@progbits
 #else  // C++ from here on
@@ -113,7 +113,7 @@ inline constexpr std::uint32_t cloth_count = 1u;
 inline constexpr std::uint32_t param_count = 2u;
 inline constexpr bool has_vertex_mass = true;
 /// Identifies this bake (its tables and bulk bytes).
-inline constexpr std::uint64_t bake_id = 0x61e2c840d54b2dd6ull;
+inline constexpr std::uint64_t bake_id = 0x6064a8196480a129ull;
 
 /// Indices into scene.objects.
 namespace object {
@@ -162,7 +162,7 @@ extern const std::uint32_t b2o_grid_cloth0_vertex_mass[];
 extern const ::b2o::Spring b2o_grid_cloth0_springs[];
 extern const std::uint32_t b2o_grid_cloth0_triangles[];
 extern const std::uint32_t b2o_grid_cloth0_pins[];
-extern const unsigned char b2o_grid_bake_61e2c840d54b2dd6[];
+extern const unsigned char b2o_grid_bake_6064a8196480a129[];
 }
 
 namespace b2o::gen::grid {
@@ -205,7 +205,7 @@ const ::b2o::Scene scene = {
 };
 
 extern const unsigned char* const bake_check;
-const unsigned char* const bake_check = b2o_grid_bake_61e2c840d54b2dd6;
+const unsigned char* const bake_check = b2o_grid_bake_6064a8196480a129;
 
 }  // namespace b2o::gen::grid
 #endif  // B2O_GRID_DEFINE_SCENE

@@ -11,67 +11,67 @@
 #define B2O_GEN_NGONS_H
 
 #ifdef __ASSEMBLER__
-/* Bulk arrays, assembled through ngons.S: the bytes of ngons.7c98a7ffa50dbd02.bin
-   (680 bytes, fnv1a64 7c98a7ffa50dbd02), found through -I<dir>. */
+/* Bulk arrays, assembled through ngons.S: the bytes of ngons.099691c6471c5a1c.bin
+   (680 bytes, fnv1a64 099691c6471c5a1c), found through -I<dir>. */
 	.section .rodata.b2o.ngons,"a",@progbits
 	.balign 16
 	.globl b2o_ngons_positions
 	.type b2o_ngons_positions, @object
 	.size b2o_ngons_positions, 144
 b2o_ngons_positions:
-	.incbin "ngons.7c98a7ffa50dbd02.bin", 0, 144
+	.incbin "ngons.099691c6471c5a1c.bin", 0, 144
 	.balign 16
 	.globl b2o_ngons_normals
 	.type b2o_ngons_normals, @object
 	.size b2o_ngons_normals, 144
 b2o_ngons_normals:
-	.incbin "ngons.7c98a7ffa50dbd02.bin", 144, 144
+	.incbin "ngons.099691c6471c5a1c.bin", 144, 144
 	.balign 16
 	.globl b2o_ngons_texcoords
 	.type b2o_ngons_texcoords, @object
 	.size b2o_ngons_texcoords, 96
 b2o_ngons_texcoords:
-	.incbin "ngons.7c98a7ffa50dbd02.bin", 288, 96
+	.incbin "ngons.099691c6471c5a1c.bin", 288, 96
 	.balign 16
 	.globl b2o_ngons_indices
 	.type b2o_ngons_indices, @object
 	.size b2o_ngons_indices, 72
 b2o_ngons_indices:
-	.incbin "ngons.7c98a7ffa50dbd02.bin", 384, 72
+	.incbin "ngons.099691c6471c5a1c.bin", 384, 72
 	.balign 16
 	.globl b2o_ngons_cloth0_rest_positions
 	.type b2o_ngons_cloth0_rest_positions, @object
 	.size b2o_ngons_cloth0_rest_positions, 48
 b2o_ngons_cloth0_rest_positions:
-	.incbin "ngons.7c98a7ffa50dbd02.bin", 464, 48
+	.incbin "ngons.099691c6471c5a1c.bin", 464, 48
 	.balign 16
 	.globl b2o_ngons_cloth0_mass_vertex_offsets
 	.type b2o_ngons_cloth0_mass_vertex_offsets, @object
 	.size b2o_ngons_cloth0_mass_vertex_offsets, 20
 b2o_ngons_cloth0_mass_vertex_offsets:
-	.incbin "ngons.7c98a7ffa50dbd02.bin", 512, 20
+	.incbin "ngons.099691c6471c5a1c.bin", 512, 20
 	.balign 16
 	.globl b2o_ngons_cloth0_mass_vertices
 	.type b2o_ngons_cloth0_mass_vertices, @object
 	.size b2o_ngons_cloth0_mass_vertices, 16
 b2o_ngons_cloth0_mass_vertices:
-	.incbin "ngons.7c98a7ffa50dbd02.bin", 544, 16
+	.incbin "ngons.099691c6471c5a1c.bin", 544, 16
 	.balign 16
 	.globl b2o_ngons_cloth0_springs
 	.type b2o_ngons_cloth0_springs, @object
 	.size b2o_ngons_cloth0_springs, 96
 b2o_ngons_cloth0_springs:
-	.incbin "ngons.7c98a7ffa50dbd02.bin", 560, 96
+	.incbin "ngons.099691c6471c5a1c.bin", 560, 96
 	.balign 16
 	.globl b2o_ngons_cloth0_triangles
 	.type b2o_ngons_cloth0_triangles, @object
 	.size b2o_ngons_cloth0_triangles, 24
 b2o_ngons_cloth0_triangles:
-	.incbin "ngons.7c98a7ffa50dbd02.bin", 656, 24
-	.globl b2o_ngons_bake_458f1accc7c24307
-	.type b2o_ngons_bake_458f1accc7c24307, @object
-	.size b2o_ngons_bake_458f1accc7c24307, 1
-b2o_ngons_bake_458f1accc7c24307:
+	.incbin "ngons.099691c6471c5a1c.bin", 656, 24
+	.globl b2o_ngons_bake_ae6f84a3dfc4e7b4
+	.type b2o_ngons_bake_ae6f84a3dfc4e7b4, @object
+	.size b2o_ngons_bake_ae6f84a3dfc4e7b4, 1
+b2o_ngons_bake_ae6f84a3dfc4e7b4:
 	.byte 0
 	.section .note.GNU-stack,"",@progbits
 #else  // C++ from here on
@@ -95,7 +95,7 @@ inline constexpr std::uint32_t cloth_count = 1u;
 inline constexpr std::uint32_t param_count = 0u;
 inline constexpr bool has_vertex_mass = false;
 /// Identifies this bake (its tables and bulk bytes).
-inline constexpr std::uint64_t bake_id = 0x458f1accc7c24307ull;
+inline constexpr std::uint64_t bake_id = 0xae6f84a3dfc4e7b4ull;
 
 /// Indices into scene.objects.
 namespace object {
@@ -142,7 +142,7 @@ extern const std::uint32_t b2o_ngons_cloth0_mass_vertex_offsets[];
 extern const std::uint32_t b2o_ngons_cloth0_mass_vertices[];
 extern const ::b2o::Spring b2o_ngons_cloth0_springs[];
 extern const std::uint32_t b2o_ngons_cloth0_triangles[];
-extern const unsigned char b2o_ngons_bake_458f1accc7c24307[];
+extern const unsigned char b2o_ngons_bake_ae6f84a3dfc4e7b4[];
 }
 
 namespace b2o::gen::ngons {
@@ -179,7 +179,7 @@ const ::b2o::Scene scene = {
 };
 
 extern const unsigned char* const bake_check;
-const unsigned char* const bake_check = b2o_ngons_bake_458f1accc7c24307;
+const unsigned char* const bake_check = b2o_ngons_bake_ae6f84a3dfc4e7b4;
 
 }  // namespace b2o::gen::ngons
 #endif  // B2O_NGONS_DEFINE_SCENE
