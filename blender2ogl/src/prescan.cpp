@@ -133,7 +133,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   };
   std::map<std::string, Made> made;
   Made outside;  // the vertices written under no object name
-  std::vector<Made*> vertex_object;  // per `v`: the object it was written under (null: none)
+  std::vector<Made*> vertex_object;  // per `v`: the object it was written under (`outside`: none)
   std::vector<std::uint8_t> vertex_used;  // per `v`: whether a face uses it
   while (!rest.empty()) {
     ++line_no;
@@ -294,7 +294,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
             const long long n = static_cast<long long>(count);
             if (part == 0 && key != "l" && key != "p" && idx <= n && idx >= -n) {
               const auto vi = static_cast<std::size_t>(idx > 0 ? idx - 1 : n + idx);
-              if (Made* of = vertex_object[vi]) of->used = true;
+              vertex_object[vi]->used = true;
               vertex_used[vi] = 1;
             }
             if (idx > n || idx < -n)
@@ -476,7 +476,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     };
     std::map<const Made*, Loose> loose;
     for (std::size_t i = 0; i < vertex_used.size(); ++i)
-      if (!vertex_used[i] && vertex_object[i] && vertex_object[i]->used) {
+      if (!vertex_used[i] && vertex_object[i]->used) {
         Loose& l = loose[vertex_object[i]];
         if (l.count++ == 0) l.first = i + 1;
       }
