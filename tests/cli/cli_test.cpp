@@ -659,7 +659,8 @@ TEST(Cli, MassesThrownOutOfTheBandAreWarned) {
 TEST(Cli, ViewerOptionsThatWouldDoNothingAreBadInput) {
   const fs::path d = fresh_dir("viewer_options");
   for (const char* args : {"--headless --fps 10", "--headless --width 100", "--headless --height 100",
-                           "--headless --paused", "--headless --no-vsync", "--fps 10 --seconds 1"}) {
+                           "--headless --paused", "--headless --no-vsync", "--headless --lookahead 1",
+                           "--fps 10 --seconds 1", "--lookahead -1", "--lookahead 61", "--lookahead x"}) {
     const Result r = run(std::string("--quiet --steps 5 --report ") + q(d / "r.json") + " " + args);
     EXPECT_EQ(r.code, 2) << args << ": " << r.output;
     EXPECT_EQ(lines(r.output), 1) << r.output;

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   app.add_option("--frames", vo.frames_dir);
   app.add_option("--fps", vo.fps);
   app.add_option("--seconds", vo.seconds);
+  app.add_option("--lookahead", vo.lookahead);
   app.add_option("--width", vo.width);
   app.add_option("--height", vo.height);
   app.add_flag("--paused", vo.paused);

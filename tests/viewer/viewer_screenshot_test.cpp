@@ -280,6 +280,12 @@ TEST(ViewerProbe, WindowRunsInRealTimeUntilTheRequestedTimeAndClosesCleanly) {
   const Result r = run(q(g_probe) + " --width 320 --height 180 --no-vsync --seconds 0.3");
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("closed at t = 0.30 s after 30 steps"), std::string::npos) << r.output;
+  // The look-ahead (on by default) says what it did; without it, the same end.
+  EXPECT_NE(r.output.find("look-ahead"), std::string::npos) << r.output;
+  const Result off = run(q(g_probe) + " --width 320 --height 180 --no-vsync --seconds 0.3 --lookahead 0");
+  EXPECT_EQ(off.code, 0) << off.output;
+  EXPECT_NE(off.output.find("closed at t = 0.30 s after 30 steps"), std::string::npos) << off.output;
+  EXPECT_EQ(off.output.find("look-ahead"), std::string::npos) << off.output;
 }
 
 // Keys and mouse through the X server to a visible window (xdotool: keys sent to the window

@@ -339,6 +339,15 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
       app.add_option("--height", height, "Viewer: window height (default 720)")->check(CLI::Range(16, 8192));
   auto* o_no_vsync = app.add_flag("--no-vsync", no_vsync, "Viewer: do not wait for vertical sync");
   auto* o_paused = app.add_flag("--paused", paused, "Viewer: start paused");
+  double lookahead = 2.0;
+  auto* o_lookahead =
+      app.add_option("--lookahead", lookahead,
+                     "Viewer: simulated seconds the window may compute ahead of the picture, which plays "
+                     "them at the wall clock's pace, so heavy seconds borrow from cheap ones (default 2; "
+                     "half of it is computed before the picture starts, at most 1.5 s of waiting; 0: "
+                     "off, each state shown as it is computed)")
+          ->transform(a_number)
+          ->check(CLI::Range(0.0, 60.0));
 
   // --help lists the built-in defaults next to this scene's baked values.
   std::ostringstream foot;
@@ -456,7 +465,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     return bad_input("--export-every needs --export-obj DIR (the OBJ files it paces)");
   // The viewer's options do nothing without it: said, not ignored.
   if (headless)
-    for (const CLI::Option* o : {o_screenshot, o_frames, o_fps, o_width, o_height, o_no_vsync, o_paused})
+    for (const CLI::Option* o : {o_screenshot, o_frames, o_fps, o_width, o_height, o_no_vsync, o_paused, o_lookahead})
       if (o->count())
         return bad_input(o->get_name() + " is a viewer option, and --headless opens no viewer (drop one of them)");
   if (o_fps->count() && !o_frames->count()) return bad_input("--fps needs --frames DIR (the frames it paces)");
@@ -600,6 +609,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     vo.height = height;
     vo.vsync = !no_vsync;
     vo.paused = paused;
+    vo.lookahead = lookahead;
     vo.screenshot = screenshot;
     vo.frames_dir = frames;
     vo.fps = fps;
@@ -619,6 +629,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
 #endif
   (void)no_vsync;
   (void)paused;
+  (void)lookahead;
 
   const std::uint64_t total =
       o_steps->count() ? steps : static_cast<std::uint64_t>(steps_covering(seconds, opts.dt));

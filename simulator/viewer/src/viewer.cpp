@@ -10,6 +10,7 @@
 #include <clothsim/view/camera.hpp>
 #include <clothsim/view/cloth_mesh.hpp>
 #include <clothsim/view/pacing.hpp>
+#include <clothsim/view/playback.hpp>
 
 #include "gl_scene.hpp"
 #include "png_io.hpp"
@@ -212,146 +213,239 @@ class Viewer {
       static_cast<Viewer*>(glfwGetWindowUserPointer(w))->camera_.zoom(dy);
     });
 
+    // The look-ahead (--lookahead): a ring of states the picture plays while the simulation
+    // runs ahead of it (view/playback.hpp).
+    if (opt_.lookahead > 0.0) {
+      const view::StateRing::Plan plan = view::StateRing::plan(model_, opt_.lookahead, kRingBytes);
+      if (plan.lookahead > 0.0) {
+        ring_.emplace(model_, plan.capacity);
+        snap_every_ = plan.every;
+        playback_.emplace(plan.lookahead, 0.5 * plan.lookahead);
+      }
+    }
+
     // A first picture before the clock starts: a GL may compile the shaders at their first
     // draw (llvmpipe does), time the simulation would otherwise owe from t = 0.
     render();
     glFinish();
     auto last = Clock::now();
     const auto run_start = last;
-    double total_step_time = 0.0;
-    std::uint64_t total_steps = 0;
+    auto last_frame = last;
     long frames = 0;
     auto window_start = last;
-    double window_sim_start = state_.t, window_step_time = 0.0;
+    double window_shown_start = shown_time(), window_step_time = 0.0, window_dropped = 0.0;
     std::uint64_t window_steps = 0;
-    // For the closing line: wall time while running (not paused) and simulated time advanced
-    // (R sets t back; pauses do not count).
-    double run_wall = 0.0, sim_advanced = 0.0;
+    // For the closing line: wall time while running (not paused, not pre-rolling) and the
+    // picture's time advanced (R sets t back; pauses do not count).
+    double run_wall = 0.0, shown_advanced = 0.0, previous_shown = shown_time();
     update_title(view::StepRates{});
+    const double dt = model_.options.dt;
+    const auto at_end = [&] { return opt_.seconds >= 0.0 && state_.t >= opt_.seconds - 0.5 * dt; };
+    // Steps timed together: the cost estimate, the counts and the failure handling.
+    const auto steps_for = [&](auto more) {
+      update_drag_target();
+      const auto t0 = Clock::now();
+      long done = 0;
+      for (; more(done); ++done) {
+        if (!timed_step().finite) {
+          non_finite_ = true;
+          paused_ = true;
+          std::fprintf(stderr, "clothsim: the simulation became non-finite at t = %.3f s (%s); "
+                       "paused, R resets (try a smaller --dt)\n", state_.t,
+                       of_dt_.step_label(state_.steps).c_str());
+          // A timed run has nobody to press R: it ends, and the exit code says it failed.
+          if (opt_.seconds >= 0.0) glfwSetWindowShouldClose(window_, GLFW_TRUE);
+          update_title();
+          break;
+        }
+        if (in_playback_ && (state_.steps % snap_every_ == 0 || at_end())) ring_->push(state_);
+      }
+      const double spent = std::chrono::duration<double>(Clock::now() - t0).count();
+      if (done > 0) step_cost_ = view::next_step_cost(step_cost_, spent / static_cast<double>(done));
+      window_steps += static_cast<std::uint64_t>(done);
+      window_step_time += spent;
+      total_steps_ += static_cast<std::uint64_t>(done);
+      total_step_time_ += spent;
+    };
     while (!glfwWindowShouldClose(window_)) {
       glfwPollEvents();
       if (stop_asked()) {
         interrupted_ = true;
         break;
       }
+      // Into the look-ahead when running freely; out of it (the picture's state taken back,
+      // in the key and mouse handlers) to pause, single-step or drag.
+      if (playback_ && !in_playback_ && !paused_ && !dragging_ && !non_finite_) {
+        ring_->clear();
+        ring_->push(state_);
+        playback_->restart(state_.t, preroll_next_);  // the first start and every R pre-roll
+        in_playback_ = true;
+      }
+      preroll_next_ = false;
       const auto now = Clock::now();
       const double elapsed = std::chrono::duration<double>(now - last).count();
-      if (!paused_) run_wall += elapsed;
-      if (stats_reset_) {  // R: the rates start again from the reset state
-        stats_reset_ = false;
-        window_start = now;
-        window_sim_start = state_.t;
-        window_steps = 0;
-        window_step_time = 0.0;
-      }
       last = now;
-      long n = 0;
-      if (!paused_) {
-        n = clock_.steps_due(elapsed, step_cost_);
-      } else {
-        clock_.reset();
-        n = pending_steps_;  // N presses, each one step of dt, even several within one frame
-      }
-      pending_steps_ = 0;
-      if (opt_.seconds >= 0.0) {  // a timed run: stop exactly at the requested time
-        const double dt = model_.options.dt;
-        const long left = static_cast<long>(std::llround((opt_.seconds - state_.t) / dt));
-        n = std::min(n, std::max(left, 0L));
-        if (left <= 0) glfwSetWindowShouldClose(window_, GLFW_TRUE);
-      }
-      if (n > 0) {
-        update_drag_target();
-        const auto t0 = Clock::now();
-        long done = 0;
-        for (; done < n; ++done) {
-          if (!timed_step().finite) {
-            non_finite_ = true;
-            paused_ = true;
-            std::fprintf(stderr, "clothsim: the simulation became non-finite at t = %.3f s (%s); "
-                         "paused, R resets (try a smaller --dt)\n", state_.t,
-                         of_dt_.step_label(state_.steps).c_str());
-            // A timed run has nobody to press R: it ends, and the exit code says it failed.
-            if (opt_.seconds >= 0.0) glfwSetWindowShouldClose(window_, GLFW_TRUE);
-            update_title();
-            break;
+      bool draw = true;
+      if (in_playback_) {
+        const bool was_prerolling = playback_->prerolling();
+        playback_->advance(elapsed, ring_->back().t, !at_end() && !non_finite_);
+        if (!paused_ && !was_prerolling) run_wall += elapsed;
+        if (was_prerolling != playback_->prerolling()) update_title();
+        ring_->show(playback_->shown(), 0.5 * dt);
+        // a timed run closes once the picture shows its last state
+        if (at_end() && ring_->size() == 1) glfwSetWindowShouldClose(window_, GLFW_TRUE);
+        const bool room = !ring_->full() || (state_.steps + 1) % snap_every_ != 0;
+        const auto act = playback_->next(std::chrono::duration<double>(now - last_frame).count(), ring_->back().t,
+                                         state_.t, !paused_ && !non_finite_ && !at_end() && room, frame_cost_);
+        draw = act.kind == view::Playback::Action::Draw || glfwWindowShouldClose(window_);
+        if (!draw) {
+          const auto due = now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(act.seconds));
+          if (act.kind == view::Playback::Action::Step) {
+            // steps until the next frame is due (at most 50 ms, for the events), the look-ahead
+            // is full, or the ring has no room for the next state
+            const auto until = std::min(due, now + std::chrono::milliseconds(50));
+            steps_for([&](long) {
+              return !non_finite_ && !at_end() && playback_->wants_steps(state_.t) &&
+                     (!ring_->full() || (state_.steps + 1) % snap_every_ != 0) && Clock::now() < until;
+            });
+          } else {
+            glfwWaitEventsTimeout(std::max(act.seconds, 1e-3));
           }
         }
-        const double spent = std::chrono::duration<double>(Clock::now() - t0).count();
-        if (done > 0) {
-          const double cost = spent / static_cast<double>(done);
-          step_cost_ = view::next_step_cost(step_cost_, cost);
+      } else {
+        if (!paused_) run_wall += elapsed;
+        long n = 0;
+        if (!paused_) {
+          n = clock_.steps_due(elapsed, step_cost_);
+        } else {
+          clock_.reset();
+          n = pending_steps_;  // N presses, each one step of dt, even several within one frame
         }
-        window_steps += static_cast<std::uint64_t>(done);
-        window_step_time += spent;
-        sim_advanced += static_cast<double>(done) * model_.options.dt;
-        total_steps += static_cast<std::uint64_t>(done);
-        total_step_time += spent;
+        pending_steps_ = 0;
+        if (opt_.seconds >= 0.0) {  // a timed run: stop exactly at the requested time
+          const long left = static_cast<long>(std::llround((opt_.seconds - state_.t) / dt));
+          n = std::min(n, std::max(left, 0L));
+          if (left <= 0) glfwSetWindowShouldClose(window_, GLFW_TRUE);
+        }
+        if (n > 0) steps_for([&](long done) { return done < n; });
       }
-      if (!non_finite_) gpu_.upload_state(scene_, model_, state_, show_springs_ || dragging_);
-      render();
-      gpu_.target.blit_to_window();
-      if (screenshot_request_) {
-        screenshot_request_ = false;
-        save_numbered_screenshot();
+      const double shown = shown_time();  // (R sets it back: no advance)
+      shown_advanced += std::max(shown - previous_shown, 0.0);
+      previous_shown = shown;
+      if (draw) {
+        const auto t0 = Clock::now();
+        if (!non_finite_) gpu_.upload_state(scene_, model_, in_playback_ ? ring_->front() : state_,
+                                            show_springs_ || dragging_);
+        render();
+        gpu_.target.blit_to_window();
+        if (screenshot_request_) {
+          screenshot_request_ = false;
+          save_numbered_screenshot();
+        }
+        glfwSwapBuffers(window_);
+        // A software renderer drawing on the cores the simulation's threads all use: let it
+        // finish the frame before the next steps. Left to overlap them, its threads stalled the
+        // steps' barriers (skirt_hires, two threads on two cores, llvmpipe: 0.385-0.401 ->
+        // 0.367-0.370 ms per step). With a core to spare the overlap pays (one thread: 0.54x
+        // real time with it, 0.48-0.52x without).
+        if (finish_frames()) glFinish();
+        last_frame = Clock::now();
+        const double cost = std::chrono::duration<double>(last_frame - t0).count();
+        frame_cost_ = frame_cost_ > 0.0 ? 0.8 * frame_cost_ + 0.2 * cost : cost;
+        ++frames;
       }
-      glfwSwapBuffers(window_);
-      // A software renderer drawing on the cores the simulation's threads all use: let it
-      // finish the frame before the next steps. Left to overlap them, its threads stalled the
-      // steps' barriers (skirt_hires, two threads on two cores, llvmpipe: 0.385-0.401 ->
-      // 0.367-0.370 ms per step). With a core to spare the overlap pays (one thread: 0.54x
-      // real time with it, 0.48-0.52x without).
-      if (finish_frames()) glFinish();
-      ++frames;
 
       const double wall = std::chrono::duration<double>(Clock::now() - window_start).count();
-      if (wall >= 0.5) {
-        update_title(view::step_rates(of_dt_, window_steps, window_step_time, state_.t - window_sim_start, wall));
+      if (stats_reset_) {  // R: the rates start again from the reset state
+        stats_reset_ = false;
         window_start = Clock::now();
-        window_sim_start = state_.t;
+        window_shown_start = shown_time();
+        previous_shown = window_shown_start;
+        window_steps = 0;
+        window_step_time = 0.0;
+      } else if (wall >= 0.5) {
+        const double dropped_now = dropped();
+        behind_ = dropped_now > window_dropped || clock_.behind();
+        window_dropped = dropped_now;
+        update_title(view::step_rates(of_dt_, window_steps, window_step_time, shown_time() - window_shown_start, wall));
+        window_start = Clock::now();
+        window_shown_start = shown_time();
         window_steps = 0;
         window_step_time = 0.0;
       }
     }
     const double wall = std::chrono::duration<double>(Clock::now() - run_start).count();
+    // The picture's state: the one the user saw last (the simulation may have gone ahead).
+    const State& seen = in_playback_ && !non_finite_ ? ring_->front() : state_;
     // Steps of the user's dt (substeps x the model's dt), as the headless summary counts them;
     // a failed run counts those before the failing one, as its report does.
     const std::uint64_t steps_done =
-        non_finite_ ? of_dt_.completed_before_failure(state_.steps) : of_dt_.completed(state_.steps);
-    // The real-time factor over the time it ran: pauses and resets do not count.
+        non_finite_ ? of_dt_.completed_before_failure(state_.steps) : of_dt_.completed(seen.steps);
+    // The real-time factor over the time it ran: pauses, pre-rolls and resets do not count.
     const std::string of_sub =
         opt_.substeps > 1 ? " of " + std::to_string(opt_.substeps) + " substeps each" : std::string();
-    const view::StepRates rates = view::step_rates(of_dt_, total_steps, total_step_time, sim_advanced, run_wall);
+    const view::StepRates rates = view::step_rates(of_dt_, total_steps_, total_step_time_, shown_advanced, run_wall);
     // Whether it kept up: a clock that never dropped time lags the wall clock only by what a
     // frame owes (the first picture, the last frame), which a ratio over a short run shows.
-    char pace[96];
-    if (clock_.dropped() > 0.0)
-      std::snprintf(pace, sizeof pace, "fell behind: %.2f s of simulated time dropped", clock_.dropped());
+    char pace[160];
+    if (dropped() > 0.0)
+      std::snprintf(pace, sizeof pace, "fell behind: %.3g s of simulated time dropped", dropped());
     else
       std::snprintf(pace, sizeof pace, "kept up: no time dropped");
+    if (playback_ && playback_->preroll_wall() > 0.0) {
+      const std::string p = pace;
+      std::snprintf(pace, sizeof pace, "%s; look-ahead %.2f s (lowest %.2f s), %.2f s of pre-roll", p.c_str(),
+                    playback_->lookahead(), std::min(playback_->lowest_ahead(), playback_->lookahead()),
+                    playback_->preroll_wall());
+    }
+    char ahead[64] = "";
+    if (!non_finite_ && state_.t > seen.t + 0.5 * model_.options.dt)
+      std::snprintf(ahead, sizeof ahead, " (simulated ahead to %.2f s)", state_.t);
     // --threads auto on a model that splits: how the steps were shared
     char thread_note[96] = "";
     // (of the steps it took: R sets State::steps back, the chooser keeps counting)
     if (chooser_ && chooser_->cores() > 1 && chooser_->steps_one() + chooser_->steps_many() > 0)
       std::snprintf(thread_note, sizeof thread_note, "; threads auto: %d for %.1f %% of the steps",
                     chooser_->cores(), 100.0 * chooser_->share_many());
-    // what a frame cost besides its steps: drawing, the copy to the screen, events
+    // what a frame cost besides its steps: drawing, the copy to the screen, events, waits
     char per_frame[64] = "";
     if (frames > 0)
       std::snprintf(per_frame, sizeof per_frame, ", %.1f ms each besides the steps",
-                    1e3 * std::max(wall - total_step_time, 0.0) / static_cast<double>(frames));
-    std::printf("clothsim: viewer closed at t = %.2f s after %llu steps%s (%.3f ms/step, %.2fx real "
+                    1e3 * std::max(wall - total_step_time_, 0.0) / static_cast<double>(frames));
+    std::printf("clothsim: viewer closed at t = %.2f s after %llu steps%s%s (%.3f ms/step, %.2fx real "
                 "time over %.2f s running, %s; %ld frames in %.2f s%s%s)%s\n",
-                state_.t, static_cast<unsigned long long>(steps_done), of_sub.c_str(),
+                non_finite_ ? state_.t : seen.t, static_cast<unsigned long long>(steps_done), of_sub.c_str(), ahead,
                 rates.ms_per_step, rates.realtime, run_wall, pace, frames, wall, per_frame, thread_note,
                 non_finite_ ? " (state non-finite)" : "");
     if (interrupted_) {
       std::fflush(stdout);
-      std::fprintf(stderr, "clothsim: interrupted at t = %.3f s\n", state_.t);
+      std::fprintf(stderr, "clothsim: interrupted at t = %.3f s\n", seen.t);
       return kInterrupted;
     }
     return non_finite_ ? 1 : 0;
   }
 
+  // The time of the state on screen.
+  double shown_time() const { return in_playback_ ? ring_->front().t : state_.t; }
+  double dropped() const { return clock_.dropped() + (playback_ ? playback_->dropped() : 0.0); }
+
+  // Out of the look-ahead: the state on screen becomes the simulation's (a pause, a single
+  // step or a drag starts from what the user sees); what was computed ahead is dropped.
+  void take_back_shown() {
+    if (!in_playback_) return;
+    if (!non_finite_) {
+      const State& s = ring_->front();
+      state_.x = s.x;
+      state_.v = s.v;
+      state_.t = s.t;
+      state_.steps = s.steps;
+      state_.drag = s.drag;
+      state_.max_penetration = s.max_penetration;
+    }
+    ring_->clear();
+    in_playback_ = false;
+    clock_.reset();
+  }
   // Keys redraw the title with the last measured rates (they are measured every 0.5 s).
   void update_title() { update_title(last_rates_); }
 
@@ -359,13 +453,14 @@ class Viewer {
     last_rates_ = rates;
     const char* status = non_finite_ ? " | NON-FINITE STATE: paused (R resets)"
                          : paused_   ? " | paused"
-                         : clock_.behind() ? " | slower than real time"
+                         : in_playback_ && playback_->prerolling() ? " | buffering"
+                         : behind_ ? " | slower than real time"
                                            : "";
     // --threads auto on a model that splits: the count it steps with now
     const std::string threads_now =
         chooser_ && chooser_->cores() > 1 ? " | " + std::to_string(threads()) + (threads() == 1 ? " thread" : " threads") + " (auto)"
                                           : std::string();
-    const std::string stats = view::stats_text(model_.scene_name, gpu_.target.width, gpu_.target.height, state_.t,
+    const std::string stats = view::stats_text(model_.scene_name, gpu_.target.width, gpu_.target.height, shown_time(),
                                                rates, status + threads_now);
     const std::string keys = "Space pause  N step  R reset  W wire  S springs  P shot  H text  Esc quit";
     glfwSetWindowTitle(window_, (stats + " | " + keys).c_str());
@@ -391,11 +486,15 @@ class Viewer {
       case GLFW_KEY_ESCAPE:
       case GLFW_KEY_Q: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
       case GLFW_KEY_SPACE:
-        if (action == GLFW_PRESS && !non_finite_) paused_ = !paused_;
+        if (action == GLFW_PRESS && !non_finite_) {
+          if (!paused_) take_back_shown();  // paused where the picture is
+          paused_ = !paused_;
+        }
         break;
       case GLFW_KEY_N:
       case GLFW_KEY_PERIOD:
         if (!non_finite_) {
+          take_back_shown();
           paused_ = true;
           // One step of the user's dt, all its substeps: the state stays on a whole step, as
           // every count the viewer shows is of whole steps of dt.
@@ -403,6 +502,9 @@ class Viewer {
         }
         break;
       case GLFW_KEY_R:
+        if (in_playback_) ring_->clear();  // what was computed ahead is of the old run
+        in_playback_ = false;
+        preroll_next_ = true;
         state_ = make_state(model_);
         stats_reset_ = true;
         dragging_ = false;
@@ -446,8 +548,11 @@ class Viewer {
     else if (button == GLFW_MOUSE_BUTTON_RIGHT) mode_ = Mouse::Orbit;
     else if (button == GLFW_MOUSE_BUTTON_LEFT) {
       const view::Ray ray = cursor_ray();
-      const view::Pick pick = view::pick_mass(scene_, model_, state_, ray, 0.02 * camera_.distance);
+      // (on the state on screen; a grab takes it back from the look-ahead and pulls from there)
+      const view::Pick pick =
+          view::pick_mass(scene_, model_, in_playback_ ? ring_->front() : state_, ray, 0.02 * camera_.distance);
       if (pick.mass >= 0 && !non_finite_) {
+        take_back_shown();
         dragging_ = true;
         mode_ = Mouse::Drag;
         drag_depth_ = (ray.origin + pick.t * ray.dir - camera_.eye()).dot(camera_.forward());
@@ -519,6 +624,17 @@ class Viewer {
   view::GlScene gpu_;
   GLFWwindow* window_ = nullptr;
   double step_cost_ = 0.0;
+  // --- the look-ahead (--lookahead; view/playback.hpp) ---
+  static constexpr std::size_t kRingBytes = std::size_t{128} << 20;  ///< the ring's memory at most
+  std::optional<view::StateRing> ring_;   ///< the states ahead of the picture (front: on screen)
+  std::optional<view::Playback> playback_;
+  std::uint64_t snap_every_ = 1;          ///< model steps between the ring's states
+  bool in_playback_ = false;              ///< the picture plays the ring (else it shows state_)
+  bool preroll_next_ = true;              ///< the next start pre-rolls (the first, and after R)
+  bool behind_ = false;                   ///< time was dropped in the last half second
+  double frame_cost_ = 0.0;               ///< s per frame, smoothed
+  std::uint64_t total_steps_ = 0;         ///< model steps taken in the window, and their time
+  double total_step_time_ = 0.0;
   bool software_ = false;  ///< the GL draws on the CPU
   std::optional<ThreadChooser> chooser_;  ///< --threads auto
   double drag_reach_ = std::numeric_limits<double>::infinity();
