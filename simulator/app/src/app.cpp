@@ -339,12 +339,12 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
       app.add_option("--height", height, "Viewer: window height (default 720)")->check(CLI::Range(16, 8192));
   auto* o_no_vsync = app.add_flag("--no-vsync", no_vsync, "Viewer: do not wait for vertical sync");
   auto* o_paused = app.add_flag("--paused", paused, "Viewer: start paused");
-  double lookahead = 2.0;
+  double lookahead = 3.0;
   auto* o_lookahead =
       app.add_option("--lookahead", lookahead,
                      "Viewer: simulated seconds the window may compute ahead of the picture, which plays "
-                     "them at the wall clock's pace, so heavy seconds borrow from cheap ones (default 2; "
-                     "half of it is computed before the picture starts, at most 1.5 s of waiting; 0: "
+                     "them at the wall clock's pace, so heavy seconds borrow from cheap ones (default 3; "
+                     "half of it is computed before the picture starts, at most 2 s of waiting; 0: "
                      "off, each state shown as it is computed)")
           ->transform(a_number)
           ->check(CLI::Range(0.0, 60.0));

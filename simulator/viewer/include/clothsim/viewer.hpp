@@ -26,9 +26,9 @@ struct ViewerOptions {
   bool wireframe = false;       ///< start in wireframe (key W toggles)
   /// s of simulated time the window may compute ahead of the picture (0: none, the picture
   /// shows each state as it is computed). Heavy seconds then borrow from cheap ones; the first
-  /// start and every R pre-roll half of it (the picture waits, at most 1.5 s of wall time).
+  /// start and every R pre-roll half of it (the picture waits, at most 2 s of wall time).
   /// A pause, a single step or a grab takes back the state on screen.
-  double lookahead = 2.0;
+  double lookahead = 3.0;
   double max_work_per_frame = 0.1;  ///< s of stepping per frame at most; beyond it run slower than real time
   /// The model's dt is the user's step divided into this many substeps (the stability guard):
   /// every count and rate the viewer shows (title, overlay, stderr, closing line) is of steps of

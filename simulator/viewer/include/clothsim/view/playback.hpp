@@ -19,7 +19,7 @@ namespace clothsim::view {
 /// for it. Pure arithmetic: the caller steps, draws and reads the wall clock.
 class Playback {
  public:
-  static constexpr double kMaxPrerollWall = 1.5;   ///< s of wall time a pre-roll may hold the picture
+  static constexpr double kMaxPrerollWall = 2.0;   ///< s of wall time a pre-roll may hold the picture
   static constexpr double kMinFrameInterval = 1.0 / 60.0;
   static constexpr double kPrerollFrameInterval = 0.25;  ///< frames while pre-rolling (the title says so)
   /// s computed ahead before a resume's picture moves (a pause, a grab or a step left nothing
