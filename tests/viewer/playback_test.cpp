@@ -246,3 +246,15 @@ TEST(StateRing, KeepsItsCapacityAndReusesItsSlots) {
   EXPECT_EQ(ring.size(), 1u);
   EXPECT_EQ(ring.front().t, 3.0);
 }
+
+TEST(StateRing, KeepsEveryNthStateAndATimedRunsLast) {
+  // every 10 steps
+  EXPECT_TRUE(cv::keeps_state(10, 10, 0.0, 0.01, -1.0));
+  EXPECT_FALSE(cv::keeps_state(11, 10, 0.0, 0.01, -1.0));
+  // the last step of a run ending at 0.3 s (from t = 0.29, or a rounding below it), not on a
+  // tenth step: kept, so the ring must have room for it (a full ring threw here)
+  EXPECT_TRUE(cv::keeps_state(29, 10, 0.29, 0.01, 0.3));
+  EXPECT_TRUE(cv::keeps_state(29, 10, 0.29 - 1e-15, 0.01, 0.3));
+  EXPECT_FALSE(cv::keeps_state(27, 10, 0.27, 0.01, 0.3));
+  EXPECT_FALSE(cv::keeps_state(7, 0, 0.0, 0.01, -1.0));  // (no spacing: only a last state)
+}

@@ -286,6 +286,11 @@ TEST(ViewerProbe, WindowRunsInRealTimeUntilTheRequestedTimeAndClosesCleanly) {
   EXPECT_EQ(off.code, 0) << off.output;
   EXPECT_NE(off.output.find("closed at t = 0.30 s after 30 steps"), std::string::npos) << off.output;
   EXPECT_EQ(off.output.find("look-ahead"), std::string::npos) << off.output;
+  // A short look-ahead (a ring of 5 states) and a run whose last step leaves a state off the
+  // ring's spacing (the ring's room for it: StateRing.KeepsEveryNthStateAndATimedRunsLast).
+  const Result tight = run(q(g_probe) + " --width 320 --height 180 --no-vsync --seconds 0.31 --lookahead 0.05");
+  EXPECT_EQ(tight.code, 0) << tight.output;
+  EXPECT_NE(tight.output.find("closed at t = 0.31 s after 31 steps"), std::string::npos) << tight.output;
 }
 
 // Keys and mouse through the X server to a visible window (xdotool: keys sent to the window

@@ -51,6 +51,10 @@ Playback::Action Playback::next(double since_frame, double latest, double sim_t,
   return {step ? Action::Step : Action::Wait, interval - since_frame};
 }
 
+bool keeps_state(std::uint64_t next_step, std::uint64_t every, double t, double dt, double end) {
+  return (every > 0 && next_step % every == 0) || (end >= 0.0 && t + 1.5 * dt >= end);
+}
+
 StateRing::StateRing(const Model& model, std::size_t capacity) {
   if (capacity < 2) throw std::invalid_argument("StateRing: capacity below 2");
   slots_.assign(capacity, make_state(model));

@@ -241,6 +241,11 @@ class Viewer {
     update_title(view::StepRates{});
     const double dt = model_.options.dt;
     const auto at_end = [&] { return opt_.seconds >= 0.0 && state_.t >= opt_.seconds - 0.5 * dt; };
+    // Whether the ring has room for what the next step leaves: a state every snap_every_ model
+    // steps, and the last one of a timed run (judged a step early, never late).
+    const auto room = [&] {
+      return !ring_->full() || !view::keeps_state(state_.steps + 1, snap_every_, state_.t, dt, opt_.seconds);
+    };
     // Steps timed together: the cost estimate, the counts and the failure handling.
     const auto steps_for = [&](auto more) {
       update_drag_target();
@@ -279,9 +284,9 @@ class Viewer {
         ring_->clear();
         ring_->push(state_);
         playback_->restart(state_.t, preroll_next_);  // the first start and every R pre-roll
+        preroll_next_ = false;
         in_playback_ = true;
       }
-      preroll_next_ = false;
       const auto now = Clock::now();
       const double elapsed = std::chrono::duration<double>(now - last).count();
       last = now;
@@ -294,9 +299,8 @@ class Viewer {
         ring_->show(playback_->shown(), 0.5 * dt);
         // a timed run closes once the picture shows its last state
         if (at_end() && ring_->size() == 1) glfwSetWindowShouldClose(window_, GLFW_TRUE);
-        const bool room = !ring_->full() || (state_.steps + 1) % snap_every_ != 0;
         const auto act = playback_->next(std::chrono::duration<double>(now - last_frame).count(), ring_->back().t,
-                                         state_.t, !paused_ && !non_finite_ && !at_end() && room, frame_cost_);
+                                         state_.t, !paused_ && !non_finite_ && !at_end() && room(), frame_cost_);
         draw = act.kind == view::Playback::Action::Draw || glfwWindowShouldClose(window_);
         if (!draw) {
           const auto due = now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(act.seconds));
@@ -305,8 +309,8 @@ class Viewer {
             // is full, or the ring has no room for the next state
             const auto until = std::min(due, now + std::chrono::milliseconds(50));
             steps_for([&](long) {
-              return !non_finite_ && !at_end() && playback_->wants_steps(state_.t) &&
-                     (!ring_->full() || (state_.steps + 1) % snap_every_ != 0) && Clock::now() < until;
+              return !non_finite_ && !at_end() && playback_->wants_steps(state_.t) && room() &&
+                     Clock::now() < until;
             });
           } else {
             glfwWaitEventsTimeout(std::max(act.seconds, 1e-3));
@@ -394,9 +398,11 @@ class Viewer {
       std::snprintf(pace, sizeof pace, "kept up: no time dropped");
     if (playback_ && playback_->preroll_wall() > 0.0) {
       const std::string p = pace;
-      std::snprintf(pace, sizeof pace, "%s; look-ahead %.2f s (lowest %.2f s), %.2f s of pre-roll", p.c_str(),
-                    playback_->lookahead(), std::min(playback_->lowest_ahead(), playback_->lookahead()),
-                    playback_->preroll_wall());
+      char lowest[32] = "";  // (none when everything was computed during the pre-roll)
+      if (std::isfinite(playback_->lowest_ahead()))
+        std::snprintf(lowest, sizeof lowest, " (lowest %.2f s)", playback_->lowest_ahead());
+      std::snprintf(pace, sizeof pace, "%s; look-ahead %.2f s%s, %.2f s of pre-roll", p.c_str(),
+                    playback_->lookahead(), lowest, playback_->preroll_wall());
     }
     char ahead[64] = "";
     if (!non_finite_ && state_.t > seen.t + 0.5 * model_.options.dt)
