@@ -154,12 +154,14 @@ TEST(Playback, FramesTakeALargerShareAsTheLookAheadFills) {
   pb.restart(0.0, false);
   const double f = 0.016;
   double previous = std::numeric_limits<double>::infinity();
-  for (double ahead : {0.0, 0.2, 0.5, 1.0, 1.5, 1.99}) {
+  for (double ahead : {0.0, 0.2, 0.5, 1.0, 1.5, 1.79, 1.81, 1.9, 1.99}) {
     const double i = pb.frame_interval(ahead, f);
     EXPECT_LT(i, previous) << ahead;
     previous = i;
   }
   EXPECT_NEAR(pb.frame_interval(0.0, f), f / 0.05, 1e-12);  // 5 % of the time when empty
+  EXPECT_NEAR(pb.frame_interval(1.8, f), f / 0.455, 1e-9);  // 45.5 % at 9/10
+  EXPECT_NEAR(pb.frame_interval(2.0 - 1e-9, f), f / 0.95, 1e-6);  // 95 % nearly full
   EXPECT_EQ(pb.frame_interval(2.0, f), cv::Playback::kMinFrameInterval);  // full: 60 per second
   EXPECT_EQ(pb.frame_interval(1.0, 0.0), cv::Playback::kMinFrameInterval);  // free frames: 60 too
   // next(): a frame when its interval has passed, else steps, or a wait when nothing can step

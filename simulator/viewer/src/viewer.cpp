@@ -353,8 +353,8 @@ class Viewer {
         // 0.367-0.370 ms per step). With a core to spare the overlap pays (one thread: 0.54x
         // real time with it, 0.48-0.52x without).
         if (finish_frames()) glFinish();
-        last_frame = Clock::now();
-        const double cost = std::chrono::duration<double>(last_frame - t0).count();
+        last_frame = t0;  // intervals run from a frame's start (Playback::next)
+        const double cost = std::chrono::duration<double>(Clock::now() - t0).count();
         frame_cost_ = frame_cost_ > 0.0 ? 0.8 * frame_cost_ + 0.2 * cost : cost;
         ++frames;
       }

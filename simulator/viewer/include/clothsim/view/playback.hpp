@@ -45,8 +45,9 @@ class Playback {
   /// Whether the simulation should take more steps: less than lookahead() s ahead of the picture.
   bool wants_steps(double latest) const { return latest < shown_ + lookahead_; }
   /// s of wall time between frames: 1/60 s when the look-ahead is full; else a frame costing
-  /// `frame_cost` s takes a share of the time that grows with how full it is (5 % empty, 50 %
-  /// nearly full), so that the steps get the rest while the picture eats into the look-ahead.
+  /// `frame_cost` s takes a share of the time that grows with how full it is (5 % empty, 45.5 %
+  /// at 9/10, 95 % nearly full), so that the steps get the rest while the picture eats into
+  /// the look-ahead.
   double frame_interval(double latest, double frame_cost) const;
   /// What the window does next, `since_frame` s of wall time after its last frame began, the
   /// newest state it may show at `latest`, the simulation at `sim_t`; `can_step`: whether a step
