@@ -135,6 +135,11 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   Made outside;  // the vertices written under no object name
   std::vector<Made*> vertex_object;  // per `v`: the object it was written under (`outside`: none)
   std::vector<std::uint8_t> vertex_used;  // per `v`: whether a face uses it
+  // Faces with no material: Blender 4 writes no `usemtl` in an object without materials, and
+  // assimp gave such faces another object's material (or the library's first). A face before
+  // any `usemtl` of the file, or after an `o` without one, is given assimp's default material
+  // (a `g` keeps the material before it, as OBJ reads).
+  bool no_material = true;
   while (!rest.empty()) {
     ++line_no;
     const std::size_t start_line = line_no;
@@ -151,6 +156,18 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       continued = false;
       const std::size_t slash = line.rfind('\\');
       cuts.push_back({static_cast<std::size_t>(line.data() - text.data()) + slash, 1, {}});
+    }
+    // A '\' followed only by spaces: assimp continues the line there too (`o foo\ ` took the
+    // next line into the name, a vertex lost); in a comment it is cut as above, elsewhere refused
+    if (const std::size_t last = line.find_last_not_of(" \t\r\f\v");
+        !continued && last != std::string_view::npos && line[last] == '\\' && line.substr(last + 1) != "\r" &&
+        last + 1 < line.size()) {
+      const std::size_t first = line.find_first_not_of(" \t");
+      if (line[first] == '#')
+        cuts.push_back({static_cast<std::size_t>(line.data() - text.data()) + last, 1, {}});
+      else
+        fail(file, start_line, "'\\' followed by spaces at the end of the line: assimp continues the line there; "
+                               "remove the spaces after it to continue the line, or the '\\'");
     }
     if (continued) joined.assign(line);
     while (continued && !joined.empty() && (joined.back() == '\\' || (joined.back() == '\r' && joined.size() > 1 && joined[joined.size() - 2] == '\\')) && !rest.empty()) {
@@ -278,9 +295,11 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       if (tok.size() - 1 < need)
         fail(file, start_line, quote_input(key) + " needs at least " + std::to_string(need) +
                                    " vertices, found " + std::to_string(tok.size() - 1));
+      int form = -1;  // the first corner's fields: 1 v, 2 v/vt, 3 v//vn, 4 v/vt/vn
       for (std::size_t k = 1; k < tok.size(); ++k) {
         const std::string_view ref = tok[k];
         std::size_t part = 0, pos = 0;
+        int fields = 1;
         bool ended = false;  // else a 3rd slash follows the 3 fields ("1/1/1/1")
         while (part < 3) {
           const std::size_t slash = ref.find('/', pos);
@@ -291,6 +310,12 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
             // ('+3' is no index for assimp: it read `f 1 2 +3` as four corners)
             if ((!field.empty() && field[0] == '+') || !parse_int(field, idx) || idx == 0)
               fail(file, start_line, "malformed vertex reference " + quote_input(ref));
+            // ('01': assimp read `f 01 02 03` as four triangles of other vertices)
+            if (const std::size_t d = field[0] == '-' ? 1 : 0; field.size() > d + 1 && field[d] == '0')
+              fail(file, start_line, "vertex reference " + quote_input(ref) + " has a leading zero (assimp misreads it); write " +
+                                         quote_input((d ? "-" : "") + std::to_string(idx < 0 ? -idx : idx)));
+            if (part == 1) fields |= 2;
+            if (part == 2) fields |= 4;
             const long long n = static_cast<long long>(count);
             if (part == 0 && key != "l" && key != "p" && idx <= n && idx >= -n) {
               const auto vi = static_cast<std::size_t>(idx > 0 ? idx - 1 : n + idx);
@@ -311,11 +336,25 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
         }
         if (!ended || (pos < ref.size() && ref.find('/', pos) != std::string_view::npos))
           fail(file, start_line, "malformed vertex reference " + quote_input(ref));
+        // assimp takes the first corner's form for all: `f 1/2 2 3/1` gave vertex 2 the third
+        // corner's texture coordinate
+        const int this_form = fields == 1 ? 1 : fields == 3 ? 2 : fields == 5 ? 3 : 4;
+        if (form < 0) form = this_form;
+        if (this_form != form)
+          fail(file, start_line, std::string(face ? "a face" : "a line") + " mixes vertex reference forms (" +
+                                     quote_input(tok[1]) + " and " + quote_input(ref) +
+                                     "): assimp would give texture coordinates or normals to the wrong corners; "
+                                     "write every corner the same way (v, v/vt, v//vn or v/vt/vn)");
       }
       if (face && owner != intended) throw InputError(misplaced);
+      if (face && no_material) {
+        cuts.push_back({static_cast<std::size_t>(line.data() - text.data()), 0, "usemtl DefaultMaterial\n"});
+        no_material = false;
+      }
       if (face) ++scan.faces; else ++scan.lines_points;
     } else if (key == "o" || key == "g") {
       ++scan.groups;
+      if (key == "o") no_material = true;
       // The name as the file writes it: the rest of the line, spaces inside kept (Blender
       // writes `o My Cloth`), up to a comment (a '#' after a space) and trimmed.
       current_group.clear();
@@ -399,6 +438,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       const std::size_t a = name.find_first_not_of(" \t\r\f\v"), b = name.find_last_not_of(" \t\r\f\v");
       name = a == std::string::npos ? std::string() : name.substr(a, b - a + 1);
       if (!name.empty()) scan.usemtl.emplace_back(name, start_line);
+      no_material = false;
     } else if (key == "lod") {
       // A display attribute (level of detail) nothing here uses; assimp 5.2.5 took it for an
       // `l` line and failed ("bad vertex index", no line): it gets the line blank.
@@ -415,6 +455,11 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
                                                                                    text.begin() + static_cast<std::ptrdiff_t>(to), '\n')),
                                                '\n')});
       if (freeform++ == 0) freeform_line = start_line;
+    } else if (std::string_view("vflpog").find(key[0]) != std::string_view::npos) {
+      // assimp reads a statement by its first letter: `fx 1 2 3` was drawn as a face, `vtx 1 1`
+      // failed without a line (an unknown statement of another letter is ignored, as by assimp)
+      fail(file, start_line, "unknown statement " + quote_input(key) + " (assimp would read it as " +
+                                 quote_input(std::string(1, key[0])) + "): fix or remove the line");
     } else if (key == "mtllib") {
       // A name may hold spaces; assimp takes the rest of the line.
       const std::string_view body = body_all.substr(0, end);

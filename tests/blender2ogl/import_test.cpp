@@ -622,3 +622,70 @@ TEST(Import, MissingZeroAndDegenerateNormalsAreComputed) {
 }
 
 }  // namespace
+
+// A probe's exports that assimp misread without a word (stop 24): a '\' before spaces at a
+// line's end (assimp continues the line there), a face mixing reference forms (its texture
+// coordinates went to the wrong corners), indices with leading zeros, and statements assimp
+// reads by their first letter. Each is refused at its line.
+TEST(Import, MisreadLinesAreRefusedAtTheirLine) {
+  const auto dir = scratch("import_misread");
+  const char* three = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 1\nvt 0 0\nvt 1 1\nvn 0 0 1\n";
+  const struct {
+    const char* name;
+    std::string text;
+    const char* error;
+  } cases[] = {
+      {"bs.obj", std::string("v 0 0 0\nv 1 0 0\no foo\\ \nv 0 1 0\nv 1 1 1\nf 1 2 3\n"),
+       "bs.obj:3: '\\' followed by spaces at the end of the line"},
+      {"bs_tab.obj", std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\ng foo\\\t\r\nf 1 2 3\n"), "bs_tab.obj:4: '\\' followed"},
+      {"mixed.obj", std::string(three) + "f 1/2 2 3/1\n", "mixed.obj:8: a face mixes vertex reference forms ('1/2' and '2')"},
+      {"mixed_vn.obj", std::string(three) + "f 1//1 2 3//1\n", "mixes vertex reference forms"},
+      {"mixed_all.obj", std::string(three) + "f 1/2/1 2//1 3/1/1\n", "('1/2/1' and '2//1')"},
+      {"zero.obj", std::string(three) + "f 01 02 03\n", "zero.obj:8: vertex reference '01' has a leading zero"},
+      {"zero_neg.obj", std::string(three) + "f -1 -02 -3\n", "write '-2'"},
+      {"fx.obj", std::string(three) + "fx 1 2 3\n", "fx.obj:8: unknown statement 'fx' (assimp would read it as 'f')"},
+      {"f1.obj", std::string(three) + "f1 2 3\nf 1 2 3\n", "f1.obj:8: unknown statement 'f1'"},
+      {"vtx.obj", std::string(three) + "vtx 1 1\nf 1 2 3\n", "vtx.obj:8: unknown statement 'vtx'"},
+  };
+  for (const auto& c : cases) {
+    write_file(dir / c.name, c.text);
+    expect_input_error([&] { import_scene(dir / c.name, false); }, c.error);
+  }
+  // still read: the same forms throughout, a '\' at the very end (a continuation), '\' before
+  // spaces in a comment (cut, as a comment's final '\' is), unknown statements of other letters
+  write_file(dir / "ok.obj", std::string(three) + "# C:\\models\\  \nf 1/1 2/2 3/1\nf 2//1 3//1 4//1\n"
+                                                  "f 1 2 \\\n4\nshadow_obj x.obj\n");
+  const auto s = import_scene(dir / "ok.obj", false);
+  EXPECT_EQ(s.indices.size(), 9u);
+}
+
+// Faces with no `usemtl` (Blender 4 writes none for an object without materials) get the
+// default material: assimp gave them another object's, or the library's first (stop 24).
+// A `g` keeps the material before it, as OBJ reads.
+TEST(Import, FacesWithoutAMaterialGetTheDefaultOne) {
+  const auto dir = scratch("import_no_usemtl");
+  write_file(dir / "ab.mtl", "newmtl A\nKd 1 0 0\nnewmtl B\nKd 0 1 0\n");
+  const std::string tri1 = "v 0 0 0\nv 1 0 0\nv 0 1 0\n", tri2 = "v 0 0 1\nv 1 0 1\nv 0 1 1\n";
+  const struct {
+    const char* name;
+    std::string text;
+    std::vector<std::string> materials;  // per submesh, in order
+  } cases[] = {
+      {"first.obj", "mtllib ab.mtl\no Cloth\n" + tri1 + "f 1 2 3\no Floor\n" + tri2 + "usemtl B\nf 4 5 6\n",
+       {"DefaultMaterial", "B"}},
+      {"last.obj", "mtllib ab.mtl\no Floor\n" + tri2 + "usemtl B\nf 1 2 3\no Cloth\n" + tri1 + "f 4 5 6\n",
+       {"B", "DefaultMaterial"}},
+      {"none.obj", "mtllib ab.mtl\n" + tri1 + "f 1 2 3\n", {"DefaultMaterial"}},
+      {"inside.obj", "mtllib ab.mtl\no C\n" + tri1 + "v 1 1 1\nf 1 2 3\nusemtl A\nf 2 4 3\n", {"DefaultMaterial", "A"}},
+      {"groups.obj", "mtllib ab.mtl\ng a\n" + tri2 + "usemtl B\nf 1 2 3\ng b\n" + tri1 + "f 4 5 6\n", {"B", "B"}},
+  };
+  for (const auto& c : cases) {
+    write_file(dir / c.name, c.text);
+    const auto s = import_scene(dir / c.name, false);
+    std::vector<std::string> got;
+    for (const auto& sm : s.submeshes)
+      got.push_back(sm.material >= 0 ? s.materials[static_cast<std::size_t>(sm.material)].name : "-");
+    EXPECT_EQ(got, c.materials) << c.name;
+    EXPECT_TRUE(s.warnings.empty()) << c.name << ": " << s.warnings.front();
+  }
+}
