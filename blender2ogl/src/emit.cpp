@@ -46,11 +46,17 @@ std::string quote(const std::string& s) {
   return out + "\"";
 }
 
-// Text safe inside // and /* */ comments: printable ASCII, no backslash, no "*/".
+// Text safe inside // and /* */ comments: printable ASCII, no backslash, no "*/", no "??"
+// (a trigraph such as ??/ is a warning, an error under -Werror: `o bar??/`). A UTF-8 sequence
+// (`o Würfel`) becomes one '?'.
 std::string comment_safe(const std::string& s) {
   std::string out;
-  for (unsigned char c : s) out += (c >= 0x20 && c < 0x7f && c != '\\') ? static_cast<char>(c) : '?';
+  for (unsigned char c : s) {
+    if (c >= 0x80 && c < 0xc0 && !out.empty() && out.back() == '?') continue;  // (a continuation byte)
+    out += (c >= 0x20 && c < 0x7f && c != '\\') ? static_cast<char>(c) : '?';
+  }
   for (std::size_t p; (p = out.find("*/")) != std::string::npos;) out[p] = '?';
+  for (std::size_t p; (p = out.find("??")) != std::string::npos;) out.insert(p + 1, " ");
   return out;
 }
 
@@ -232,7 +238,8 @@ std::string scene_init(const Scene& s, const Layout& L, const std::string& q) {
 // too, so the header alone says which bake is current: it is the commit point (docs/blender2ogl.md).
 std::string header(const Scene& s, const Options& opt, const Layout* text_layout, const std::string& bake_id,
                    const std::string& asm_part = {}, const std::string& definition = {}) {
-  const std::string guard = "B2O_GEN_" + upper(s.name) + "_H";
+  // (the name as it is: scenes `ab` and `Ab` are two namespaces, and need two guards)
+  const std::string guard = "B2O_GEN_" + s.name + "_H";
   const std::string ns = "b2o::gen::" + s.name;
   std::ostringstream h;
   h << "// " << comment_safe(s.name) << ".h: the scene baked by blender2ogl " << kVersion << " from "

@@ -122,7 +122,8 @@ b2o::conv::Options parse(int argc, char** argv, bool& done) {
       if (b2o::conv::clean_identifier(o.name) != o.name)
         throw UsageError("-n " + b2o::conv::quote_input(o.name) +
                          ": not usable as a scene name (the C++ namespace b2o::gen::NAME): letters, digits and "
-                         "single '_' inside, not starting with a digit, and not a C++ keyword or std, b2o, gen");
+                         "single '_' inside, not starting with a digit, and not a C++ keyword, a macro (linux, SIZE_MAX, "
+                         "INT32_MAX, ...) or std, b2o, gen");
     } else if (arg == "-p" || arg == "--pin") {
       const std::string spec = need("-p");
       const auto colon = spec.rfind(':');

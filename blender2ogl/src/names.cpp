@@ -25,6 +25,30 @@ constexpr std::array<std::string_view, 107> kReserved = {
     // preprocessor of the scene's .S file): linux and unix on Linux, the others on other targets
     "linux", "unix", "i386", "sun", "vax", "mips", "sparc"};
 
+// The object-like macros of <cstdint> (the generated header includes it): INT32_MAX,
+// SIZE_MAX, UINT_LEAST8_MAX, PTRDIFF_WIDTH (glibc defines the *_WIDTH ones in the GNU
+// dialects), ... An object or scene of that name made `inline constexpr std::uint32_t
+// SIZE_MAX = ...`, which does not compile. (The function-like INT8_C ... expand only before '('.)
+bool stdint_macro(std::string_view id) {
+  const auto cut = [&](std::string_view prefix) {
+    if (id.substr(0, prefix.size()) != prefix) return false;
+    id.remove_prefix(prefix.size());
+    return true;
+  };
+  std::string_view tail = id;
+  if (const std::size_t us = id.rfind('_'); us != std::string_view::npos) tail = id.substr(us + 1);
+  else return false;
+  if (tail != "MIN" && tail != "MAX" && tail != "WIDTH") return false;
+  id.remove_suffix(tail.size() + 1);
+  for (std::string_view whole : {"SIZE", "PTRDIFF", "SIG_ATOMIC", "WCHAR", "WINT"})
+    if (id == whole) return true;
+  cut("U");
+  if (!cut("INT")) return false;
+  if (id == "PTR" || id == "MAX") return true;
+  if (!cut("_LEAST")) cut("_FAST");
+  return id == "8" || id == "16" || id == "32" || id == "64";
+}
+
 }  // namespace
 
 std::string clean_identifier(const std::string& name) {
@@ -41,6 +65,7 @@ std::string clean_identifier(const std::string& name) {
   if (id[0] >= '0' && id[0] <= '9') id = "o" + id;
   for (auto k : kReserved)
     if (id == k) return id + "_";
+  if (stdint_macro(id)) return id + "_";
   return id;
 }
 

@@ -455,9 +455,11 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
                                                                                    text.begin() + static_cast<std::ptrdiff_t>(to), '\n')),
                                                '\n')});
       if (freeform++ == 0) freeform_line = start_line;
-    } else if (std::string_view("vflpog").find(key[0]) != std::string_view::npos) {
-      // assimp reads a statement by its first letter: `fx 1 2 3` was drawn as a face, `vtx 1 1`
-      // failed without a line (an unknown statement of another letter is ignored, as by assimp)
+    } else if (std::string_view("flpog").find(key[0]) != std::string_view::npos ||
+               (key[0] == 'v' && (key[1] == 't' || key[1] == 'n'))) {
+      // assimp reads a statement by its first letter (v: its first two): `fx 1 2 3` was drawn
+      // as a face, `vtx 1 1` failed without a line, `ox` named an object. Other unknown
+      // statements (`vD`, `shadow_obj`) assimp ignores, and so does this scan.
       fail(file, start_line, "unknown statement " + quote_input(key) + " (assimp would read it as " +
                                  quote_input(std::string(1, key[0])) + "): fix or remove the line");
     } else if (key == "mtllib") {

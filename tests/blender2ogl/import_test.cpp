@@ -256,6 +256,13 @@ TEST(Identifiers, OddNamesGiveValidDistinctStableIdentifiers) {
   // macros in GCC's GNU dialects (CMake's default, and the scene's .S)
   EXPECT_EQ(b2o::conv::clean_identifier("linux"), "linux_");
   EXPECT_EQ(b2o::conv::clean_identifier("unix"), "unix_");
+  // <cstdint>'s object-like macros (stop 24); its function-like ones and look-alikes stay
+  for (const char* m : {"SIZE_MAX", "INT32_MAX", "UINT64_MAX", "INT8_MIN", "INT_LEAST16_MIN", "UINT_FAST32_MAX",
+                        "INTPTR_MIN", "UINTPTR_MAX", "INTMAX_MAX", "PTRDIFF_WIDTH", "SIG_ATOMIC_MIN", "WCHAR_MAX",
+                        "WINT_MIN", "INT64_WIDTH"})
+    EXPECT_EQ(b2o::conv::clean_identifier(m), std::string(m) + "_") << m;
+  for (const char* m : {"INT8_C", "UINT64_C", "MAX", "SIZE", "MY_MAX", "INT_MAX_x", "INT128_MAX", "UINT_LEAST_MAX"})
+    EXPECT_EQ(b2o::conv::clean_identifier(m), m) << m;
   EXPECT_EQ(b2o::conv::clean_identifier("__x__y"), "x_y");
   EXPECT_EQ(b2o::conv::clean_identifier("\xC3\xBC"), "unnamed");
 }
@@ -646,6 +653,7 @@ TEST(Import, MisreadLinesAreRefusedAtTheirLine) {
       {"fx.obj", std::string(three) + "fx 1 2 3\n", "fx.obj:8: unknown statement 'fx' (assimp would read it as 'f')"},
       {"f1.obj", std::string(three) + "f1 2 3\nf 1 2 3\n", "f1.obj:8: unknown statement 'f1'"},
       {"vtx.obj", std::string(three) + "vtx 1 1\nf 1 2 3\n", "vtx.obj:8: unknown statement 'vtx'"},
+      {"ox.obj", std::string(three) + "ox name\nf 1 2 3\n", "ox.obj:8: unknown statement 'ox' (assimp would read it as 'o')"},
   };
   for (const auto& c : cases) {
     write_file(dir / c.name, c.text);
@@ -654,7 +662,7 @@ TEST(Import, MisreadLinesAreRefusedAtTheirLine) {
   // still read: the same forms throughout, a '\' at the very end (a continuation), '\' before
   // spaces in a comment (cut, as a comment's final '\' is), unknown statements of other letters
   write_file(dir / "ok.obj", std::string(three) + "# C:\\models\\  \nf 1/1 2/2 3/1\nf 2//1 3//1 4//1\n"
-                                                  "f 1 2 \\\n4\nshadow_obj x.obj\n");
+                                                  "f 1 2 \\\n4\nshadow_obj x.obj\nvD 1 2\n");
   const auto s = import_scene(dir / "ok.obj", false);
   EXPECT_EQ(s.indices.size(), 9u);
 }

@@ -7,8 +7,8 @@
 //
 // Object and cloth indices below are named after the objects (cleaned into C++
 // identifiers; Object::name keeps the name as written in the file).
-#ifndef B2O_GEN_GRID_H
-#define B2O_GEN_GRID_H
+#ifndef B2O_GEN_grid_H
+#define B2O_GEN_grid_H
 
 #ifdef __ASSEMBLER__
 /* Bulk arrays, assembled through grid.S: the bytes of grid.37536d974c7f0738.bin
@@ -86,10 +86,10 @@ b2o_grid_cloth0_triangles:
 	.size b2o_grid_cloth0_pins, 8
 b2o_grid_cloth0_pins:
 	.incbin "grid.37536d974c7f0738.bin", 1392, 8
-	.globl b2o_grid_bake_6064a8196480a129
-	.type b2o_grid_bake_6064a8196480a129, @object
-	.size b2o_grid_bake_6064a8196480a129, 1
-b2o_grid_bake_6064a8196480a129:
+	.globl b2o_grid_bake_ae682e324630d769
+	.type b2o_grid_bake_ae682e324630d769, @object
+	.size b2o_grid_bake_ae682e324630d769, 1
+b2o_grid_bake_ae682e324630d769:
 	.byte 0
 	.section .note.GNU-stack,"",@progbits
 #else  // C++ from here on
@@ -113,7 +113,7 @@ inline constexpr std::uint32_t cloth_count = 1u;
 inline constexpr std::uint32_t param_count = 2u;
 inline constexpr bool has_vertex_mass = true;
 /// Identifies this bake (its tables and bulk bytes).
-inline constexpr std::uint64_t bake_id = 0x6064a8196480a129ull;
+inline constexpr std::uint64_t bake_id = 0xae682e324630d769ull;
 
 /// Indices into scene.objects.
 namespace object {
@@ -162,7 +162,7 @@ extern const std::uint32_t b2o_grid_cloth0_vertex_mass[];
 extern const ::b2o::Spring b2o_grid_cloth0_springs[];
 extern const std::uint32_t b2o_grid_cloth0_triangles[];
 extern const std::uint32_t b2o_grid_cloth0_pins[];
-extern const unsigned char b2o_grid_bake_6064a8196480a129[];
+extern const unsigned char b2o_grid_bake_ae682e324630d769[];
 }
 
 namespace b2o::gen::grid {
@@ -205,9 +205,9 @@ const ::b2o::Scene scene = {
 };
 
 extern const unsigned char* const bake_check;
-const unsigned char* const bake_check = b2o_grid_bake_6064a8196480a129;
+const unsigned char* const bake_check = b2o_grid_bake_ae682e324630d769;
 
 }  // namespace b2o::gen::grid
 #endif  // B2O_GRID_DEFINE_SCENE
 #endif  // __ASSEMBLER__
-#endif  // B2O_GEN_GRID_H
+#endif  // B2O_GEN_grid_H

@@ -7,8 +7,8 @@
 //
 // Object and cloth indices below are named after the objects (cleaned into C++
 // identifiers; Object::name keeps the name as written in the file).
-#ifndef B2O_GEN_NGONS_H
-#define B2O_GEN_NGONS_H
+#ifndef B2O_GEN_ngons_H
+#define B2O_GEN_ngons_H
 
 #ifdef __ASSEMBLER__
 /* Bulk arrays, assembled through ngons.S: the bytes of ngons.099691c6471c5a1c.bin
@@ -68,10 +68,10 @@ b2o_ngons_cloth0_springs:
 	.size b2o_ngons_cloth0_triangles, 24
 b2o_ngons_cloth0_triangles:
 	.incbin "ngons.099691c6471c5a1c.bin", 656, 24
-	.globl b2o_ngons_bake_ae6f84a3dfc4e7b4
-	.type b2o_ngons_bake_ae6f84a3dfc4e7b4, @object
-	.size b2o_ngons_bake_ae6f84a3dfc4e7b4, 1
-b2o_ngons_bake_ae6f84a3dfc4e7b4:
+	.globl b2o_ngons_bake_0037cc9fecfa5cd4
+	.type b2o_ngons_bake_0037cc9fecfa5cd4, @object
+	.size b2o_ngons_bake_0037cc9fecfa5cd4, 1
+b2o_ngons_bake_0037cc9fecfa5cd4:
 	.byte 0
 	.section .note.GNU-stack,"",@progbits
 #else  // C++ from here on
@@ -95,7 +95,7 @@ inline constexpr std::uint32_t cloth_count = 1u;
 inline constexpr std::uint32_t param_count = 0u;
 inline constexpr bool has_vertex_mass = false;
 /// Identifies this bake (its tables and bulk bytes).
-inline constexpr std::uint64_t bake_id = 0xae6f84a3dfc4e7b4ull;
+inline constexpr std::uint64_t bake_id = 0x0037cc9fecfa5cd4ull;
 
 /// Indices into scene.objects.
 namespace object {
@@ -142,7 +142,7 @@ extern const std::uint32_t b2o_ngons_cloth0_mass_vertex_offsets[];
 extern const std::uint32_t b2o_ngons_cloth0_mass_vertices[];
 extern const ::b2o::Spring b2o_ngons_cloth0_springs[];
 extern const std::uint32_t b2o_ngons_cloth0_triangles[];
-extern const unsigned char b2o_ngons_bake_ae6f84a3dfc4e7b4[];
+extern const unsigned char b2o_ngons_bake_0037cc9fecfa5cd4[];
 }
 
 namespace b2o::gen::ngons {
@@ -179,9 +179,9 @@ const ::b2o::Scene scene = {
 };
 
 extern const unsigned char* const bake_check;
-const unsigned char* const bake_check = b2o_ngons_bake_ae6f84a3dfc4e7b4;
+const unsigned char* const bake_check = b2o_ngons_bake_0037cc9fecfa5cd4;
 
 }  // namespace b2o::gen::ngons
 #endif  // B2O_NGONS_DEFINE_SCENE
 #endif  // __ASSEMBLER__
-#endif  // B2O_GEN_NGONS_H
+#endif  // B2O_GEN_ngons_H

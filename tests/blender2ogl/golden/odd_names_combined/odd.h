@@ -7,8 +7,8 @@
 //
 // Object and cloth indices below are named after the objects (cleaned into C++
 // identifiers; Object::name keeps the name as written in the file).
-#ifndef B2O_GEN_ODD_H
-#define B2O_GEN_ODD_H
+#ifndef B2O_GEN_odd_H
+#define B2O_GEN_odd_H
 
 #include <blender2ogl/scene_types.h>
 
@@ -31,7 +31,7 @@ inline constexpr bool has_vertex_mass = false;
 
 /// Indices into scene.objects.
 namespace object {
-inline constexpr std::uint32_t Tischdecke = 0u;  // Tischdecke_????
+inline constexpr std::uint32_t Tischdecke = 0u;  // Tischdecke_? ?
 inline constexpr std::uint32_t say_hi_there = 1u;  // say"hi"?there?
 inline constexpr std::uint32_t o3D_Cube = 2u;  // 3D.Cube
 inline constexpr std::uint32_t int_ = 3u;  // int
@@ -124,4 +124,4 @@ inline double param(const char* key, double fallback) noexcept {
 
 }  // namespace b2o::gen::odd
 
-#endif  // B2O_GEN_ODD_H
+#endif  // B2O_GEN_odd_H
