@@ -295,7 +295,13 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
     std::ifstream probe(file, std::ios::binary);
     if (!probe) throw InputError(file.string() + ": cannot open (permission denied?)");
   }
-  const bool is_obj = lower(file.extension().string()) == ".obj";
+  const std::string ext = lower(file.extension().string());
+  const bool is_obj = ext == ".obj";
+  // assimp reads a file by its content when its extension is none it knows: an OBJ named
+  // `model` or `x.obj.bak` went past the pre-scan (a '.5' coordinate silently lost a vertex)
+  if (!is_obj && (ext.empty() || !Assimp::Importer().IsExtensionSupported(ext)))
+    throw InputError(file.string() + ": " + (ext.empty() ? std::string("no extension") : "'" + ext + "' is no model format") +
+                     ": name a Blender export *.obj (other formats assimp reads by their extension: .fbx, .gltf, ...)");
   const std::filesystem::path folder = file.parent_path();
   out.inputs_read.push_back(std::filesystem::absolute(file));
 

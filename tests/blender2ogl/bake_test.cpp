@@ -174,6 +174,20 @@ TEST(Bake, PinHelperTooFarIsAnError) {
   }
 }
 
+// -m merges every object into one: a pin helper's object is gone, and the helper is ignored
+// with a warning (the whole bake failed: "names no object 'Cloth'"; stop 24).
+TEST(Bake, MergedModelIgnoresItsPinHelper) {
+  const auto dir = scratch("bake_pin_merged");
+  write_file(dir / "pins.obj", "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no Cloth_pins\nv 0 0 0\n");
+  auto o = opts((dir / "pins.obj").string(), {});
+  o.merge = true;
+  const auto s = convert(o);
+  ASSERT_EQ(s.objects.size(), 1u);
+  ASSERT_FALSE(s.warnings.empty());
+  EXPECT_NE(s.warnings.back().find("pin object 'Cloth_pins' ignored: -m merges the objects"),
+            std::string::npos) << s.warnings.back();
+}
+
 // A pin helper must pin something: one naming no object (a typo, or a name assimp cut short)
 // or with no vertices is an error at its line, never "0 pins".
 TEST(Bake, PinHelperNamingNoObjectOrEmptyIsAnError) {

@@ -697,3 +697,18 @@ TEST(Import, FacesWithoutAMaterialGetTheDefaultOne) {
     EXPECT_TRUE(s.warnings.empty()) << c.name << ": " << s.warnings.front();
   }
 }
+
+// A model file is read by its extension: without one assimp guessed OBJ from the content and
+// the pre-scan never ran (a '.5' coordinate lost a vertex without a word; stop 24).
+TEST(Import, AModelWithoutAKnownExtensionIsRefused) {
+  const auto dir = scratch("import_extension");
+  const std::string obj = "v 0 0 0\nv .5 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\n";
+  write_file(dir / "model", obj);
+  expect_input_error([&] { import_scene(dir / "model", false); }, "model: no extension: name a Blender export *.obj");
+  write_file(dir / "x.obj.bak", obj);
+  expect_input_error([&] { import_scene(dir / "x.obj.bak", false); }, "x.obj.bak: '.bak' is no model format");
+  write_file(dir / "UP.OBJ", obj);  // (the case does not matter)
+  const auto s = import_scene(dir / "UP.OBJ", false);
+  ASSERT_EQ(s.positions.size(), 9u);
+  EXPECT_EQ(s.positions[3], 0.5f);  // the '.5' read, through the pre-scan
+}
