@@ -660,7 +660,8 @@ TEST(Cli, ViewerOptionsThatWouldDoNothingAreBadInput) {
   const fs::path d = fresh_dir("viewer_options");
   for (const char* args : {"--headless --fps 10", "--headless --width 100", "--headless --height 100",
                            "--headless --paused", "--headless --no-vsync", "--headless --lookahead 1",
-                           "--fps 10 --seconds 1", "--lookahead -1", "--lookahead 61", "--lookahead x"}) {
+                           "--fps 10 --seconds 1", "--lookahead -1", "--lookahead 61", "--lookahead x",
+                           "--lookahead nan", "--lookahead 0.1", "--lookahead 1e-300"}) {
     const Result r = run(std::string("--quiet --steps 5 --report ") + q(d / "r.json") + " " + args);
     EXPECT_EQ(r.code, 2) << args << ": " << r.output;
     EXPECT_EQ(lines(r.output), 1) << r.output;
@@ -671,6 +672,12 @@ TEST(Cli, ViewerOptionsThatWouldDoNothingAreBadInput) {
   EXPECT_EQ(frames.code, 2) << frames.output;
   EXPECT_NE(frames.output.find("error: --frames needs --seconds T"), std::string::npos) << frames.output;
   EXPECT_EQ(frames.output.find("stability"), std::string::npos) << frames.output;
+  // the look-ahead paces the window only: with a screenshot or frames it would do nothing
+  for (const std::string& out : {"--screenshot " + q(d / "a.png"), "--frames " + q(d / "f")}) {
+    const Result la = run("--seconds 0.1 --lookahead 1 " + out);
+    EXPECT_EQ(la.code, 2) << la.output;
+    EXPECT_NE(la.output.find("--lookahead paces the window"), std::string::npos) << la.output;
+  }
   const Result jpg = run("--seconds 0.1 --screenshot " + q(d / "a.jpg"));
   EXPECT_EQ(jpg.code, 2) << jpg.output;
   EXPECT_NE(jpg.output.find("name it *.png"), std::string::npos) << jpg.output;

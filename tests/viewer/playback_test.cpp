@@ -159,9 +159,11 @@ TEST(Playback, FramesTakeALargerShareAsTheLookAheadFills) {
     EXPECT_LT(i, previous) << ahead;
     previous = i;
   }
-  EXPECT_NEAR(pb.frame_interval(0.0, f), f / 0.05, 1e-12);  // 5 % of the time when empty
-  EXPECT_NEAR(pb.frame_interval(1.8, f), f / 0.455, 1e-9);  // 45.5 % at 9/10
+  EXPECT_NEAR(pb.frame_interval(0.0, f), f / 0.1, 1e-12);  // 10 % of the time when empty
+  EXPECT_NEAR(pb.frame_interval(1.8, f), f / 0.46, 1e-9);  // 46 % at 9/10
   EXPECT_NEAR(pb.frame_interval(2.0 - 1e-9, f), f / 0.95, 1e-6);  // 95 % nearly full
+  // never fewer than 4 frames a second (a 45 ms software frame at 10 % was 0.45 s apart)
+  EXPECT_EQ(pb.frame_interval(0.0, 0.045), cv::Playback::kMaxFrameInterval);
   EXPECT_EQ(pb.frame_interval(2.0, f), cv::Playback::kMinFrameInterval);  // full: 60 per second
   EXPECT_EQ(pb.frame_interval(1.0, 0.0), cv::Playback::kMinFrameInterval);  // free frames: 60 too
   // next(): a frame when its interval has passed, else steps, or a wait when nothing can step
@@ -188,6 +190,9 @@ TEST(StateRing, PlansSixtyStatesPerSecondOrThirtyWhenSixtyDoNotFit) {
   const auto tight = cv::StateRing::plan(model, 2.0, 100 * bytes);  // 120 would not fit, 62 do
   EXPECT_EQ(tight.every, 33u);
   EXPECT_EQ(tight.capacity, static_cast<std::size_t>(std::ceil(2.0 / 0.033)) + 2);
+  // with 4 substeps per step of dt the spacing is whole steps: 17 -> 20 model steps
+  EXPECT_EQ(cv::StateRing::plan(model, 2.0, std::size_t{1} << 30, 4).every, 20u);
+  EXPECT_EQ(cv::StateRing::plan(model, 2.0, std::size_t{1} << 30, 17).every, 17u);
   const auto tiny = cv::StateRing::plan(model, 2.0, 12 * bytes);  // the look-ahead shrinks to fit
   EXPECT_EQ(tiny.capacity, 12u);
   EXPECT_NEAR(tiny.lookahead, 10 * 0.033, 1e-12);

@@ -347,7 +347,12 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
                      "half of it is computed before the picture starts, at most 2 s of waiting; 0: "
                      "off, each state shown as it is computed)")
           ->transform(a_number)
-          ->check(CLI::Range(0.0, 60.0));
+          ->check([](const std::string& v) -> std::string {
+            // (a_number has read it; nan and inf are no numbers here)
+            const double x = std::strtod(v.c_str(), nullptr);
+            if (x == 0.0 || (x >= 0.25 && x <= 60.0)) return {};
+            return "0 (off) or 0.25 to 60 s, got " + v + " (a shorter look-ahead cannot keep up)";
+          });
 
   // --help lists the built-in defaults next to this scene's baked values.
   std::ostringstream foot;
@@ -469,6 +474,8 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
       if (o->count())
         return bad_input(o->get_name() + " is a viewer option, and --headless opens no viewer (drop one of them)");
   if (o_fps->count() && !o_frames->count()) return bad_input("--fps needs --frames DIR (the frames it paces)");
+  if (o_lookahead->count() && (o_screenshot->count() || o_frames->count()))
+    return bad_input("--lookahead paces the window; --screenshot and --frames step straight to their times (drop one)");
   if (o_frames->count() && !o_seconds->count() && !o_steps->count())
     return bad_input("--frames needs --seconds T (how much simulated time to record)");
   if (o_screenshot->count()) {  // (a name without an extension, such as /dev/null, is written into)

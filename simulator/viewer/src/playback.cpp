@@ -39,9 +39,9 @@ double Playback::frame_interval(double latest, double frame_cost) const {
   if (fill >= 1.0) return kMinFrameInterval;
   // 5 % empty to 45.5 % at 9/10 full, then up to 95 % when full: a simulation that refills the
   // look-ahead at once (the small scenes) leaves the frames nearly all the time
-  const double share = fill < 0.9 ? 0.05 + 0.45 * fill : 0.455 + 4.95 * (fill - 0.9);
+  const double share = fill < 0.9 ? 0.1 + 0.4 * fill : 0.46 + 4.9 * (fill - 0.9);
   const double cost = std::isfinite(frame_cost) && frame_cost > 0.0 ? frame_cost : 0.0;
-  return std::max(kMinFrameInterval, cost / share);
+  return std::clamp(cost / share, kMinFrameInterval, kMaxFrameInterval);
 }
 
 Playback::Action Playback::next(double since_frame, double latest, double sim_t, bool can_step,
@@ -90,7 +90,7 @@ std::size_t StateRing::bytes_per_state(const Model& model) {
   return 2 * 3 * sizeof(double) * static_cast<std::size_t>(model.mass_count()) + sizeof(State);
 }
 
-StateRing::Plan StateRing::plan(const Model& model, double lookahead, std::size_t max_bytes) {
+StateRing::Plan StateRing::plan(const Model& model, double lookahead, std::size_t max_bytes, std::uint64_t substeps) {
   Plan p;
   const double dt = model.options.dt;
   if (!(lookahead > 0.0) || !(dt > 0.0)) return p;
@@ -98,6 +98,7 @@ StateRing::Plan StateRing::plan(const Model& model, double lookahead, std::size_
   const std::size_t fit = std::max<std::size_t>(2, max_bytes / std::max<std::size_t>(bytes, 1));
   for (const double rate : {60.0, 30.0}) {
     p.every = static_cast<std::uint64_t>(std::max(1.0, std::round(1.0 / (rate * dt))));
+    if (substeps > 1) p.every = (p.every + substeps - 1) / substeps * substeps;  // whole steps of dt
     const double spacing = static_cast<double>(p.every) * dt;
     // the one on screen, the look-ahead, and one more so a step never waits for the picture
     const auto want = static_cast<std::size_t>(std::ceil(lookahead / spacing - 1e-9)) + 2;

@@ -216,11 +216,20 @@ class Viewer {
     // The look-ahead (--lookahead): a ring of states the picture plays while the simulation
     // runs ahead of it (view/playback.hpp).
     if (opt_.lookahead > 0.0) {
-      const view::StateRing::Plan plan = view::StateRing::plan(model_, opt_.lookahead, kRingBytes);
-      if (plan.lookahead > 0.0) {
+      const view::StateRing::Plan plan =
+          view::StateRing::plan(model_, opt_.lookahead, kRingBytes, static_cast<std::uint64_t>(std::max(opt_.substeps, 1)));
+      if (plan.lookahead >= view::Playback::kMinLookahead) {
         ring_.emplace(model_, plan.capacity);
         snap_every_ = plan.every;
         playback_.emplace(plan.lookahead, 0.5 * plan.lookahead);
+      }
+      // what the memory allowed, said (a larger model keeps fewer states)
+      if (plan.lookahead < opt_.lookahead - 0.05) {
+        char cut[48] = "off (under 0.25 s)";
+        if (playback_) std::snprintf(cut, sizeof cut, "cut to %.2f s", plan.lookahead);
+        std::fprintf(stderr, "clothsim: look-ahead %s: %zu states of %.1f MB each fit in %zu MB\n", cut,
+                     plan.capacity, static_cast<double>(view::StateRing::bytes_per_state(model_)) / 1e6,
+                     kRingBytes >> 20);
       }
     }
 
@@ -253,14 +262,12 @@ class Viewer {
       long done = 0;
       for (; more(done); ++done) {
         if (!timed_step().finite) {
-          non_finite_ = true;
-          paused_ = true;
-          std::fprintf(stderr, "clothsim: the simulation became non-finite at t = %.3f s (%s); "
-                       "paused, R resets (try a smaller --dt)\n", state_.t,
-                       of_dt_.step_label(state_.steps).c_str());
-          // A timed run has nobody to press R: it ends, and the exit code says it failed.
-          if (opt_.seconds >= 0.0) glfwSetWindowShouldClose(window_, GLFW_TRUE);
-          update_title();
+          char what[160];
+          std::snprintf(what, sizeof what, "the simulation became non-finite at t = %.3f s (%s)", state_.t,
+                        of_dt_.step_label(state_.steps).c_str());
+          failure_ = what;
+          // Ahead of the picture: the picture plays the finite states up to it, then fails.
+          if (!in_playback_) fail_now();
           break;
         }
         if (in_playback_ && (state_.steps % snap_every_ == 0 || at_end())) ring_->push(state_);
@@ -286,6 +293,7 @@ class Viewer {
         playback_->restart(state_.t, preroll_next_);  // the first start and every R pre-roll
         preroll_next_ = false;
         in_playback_ = true;
+        update_title();  // ("buffering")
       }
       const auto now = Clock::now();
       const double elapsed = std::chrono::duration<double>(now - last).count();
@@ -293,14 +301,18 @@ class Viewer {
       bool draw = true;
       if (in_playback_) {
         const bool was_prerolling = playback_->prerolling();
-        playback_->advance(elapsed, ring_->back().t, !at_end() && !non_finite_);
+        playback_->advance(elapsed, ring_->back().t, !at_end() && !non_finite_ && failure_.empty());
         if (!paused_ && !was_prerolling) run_wall += elapsed;
         if (was_prerolling != playback_->prerolling()) update_title();
         ring_->show(playback_->shown(), 0.5 * dt);
-        // a timed run closes once the picture shows its last state
+        // a timed run closes once the picture shows its last state; a failure ahead is met
+        // once the picture shows the last finite one
         if (at_end() && ring_->size() == 1) glfwSetWindowShouldClose(window_, GLFW_TRUE);
+        if (!failure_.empty() && !non_finite_ && ring_->size() == 1 && playback_->shown() >= ring_->back().t)
+          fail_now();
+        const bool stepping = !paused_ && !non_finite_ && failure_.empty() && !at_end();
         const auto act = playback_->next(std::chrono::duration<double>(now - last_frame).count(), ring_->back().t,
-                                         state_.t, !paused_ && !non_finite_ && !at_end() && room(), frame_cost_);
+                                         state_.t, stepping && room(), frame_cost_);
         draw = act.kind == view::Playback::Action::Draw || glfwWindowShouldClose(window_);
         if (!draw) {
           const auto due = now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(act.seconds));
@@ -309,7 +321,7 @@ class Viewer {
             // is full, or the ring has no room for the next state
             const auto until = std::min(due, now + std::chrono::milliseconds(50));
             steps_for([&](long) {
-              return !non_finite_ && !at_end() && playback_->wants_steps(state_.t) && room() &&
+              return failure_.empty() && !at_end() && playback_->wants_steps(state_.t) && room() &&
                      Clock::now() < until;
             });
           } else {
@@ -324,6 +336,14 @@ class Viewer {
         } else {
           clock_.reset();
           n = pending_steps_;  // N presses, each one step of dt, even several within one frame
+        }
+        // paused with nothing to step: frames at most 60 per second (it drew as fast as it could)
+        if (paused_ && pending_steps_ == 0 && !dragging_) {
+          const double since = std::chrono::duration<double>(now - last_frame).count();
+          if (since < view::Playback::kMinFrameInterval) {
+            glfwWaitEventsTimeout(view::Playback::kMinFrameInterval - since);
+            continue;
+          }
         }
         pending_steps_ = 0;
         if (opt_.seconds >= 0.0) {  // a timed run: stop exactly at the requested time
@@ -405,7 +425,7 @@ class Viewer {
                     playback_->lookahead(), lowest, playback_->preroll_wall());
     }
     char ahead[64] = "";
-    if (!non_finite_ && state_.t > seen.t + 0.5 * model_.options.dt)
+    if (!non_finite_ && state_.t >= seen.t + 0.005)  // (what two decimals tell apart)
       std::snprintf(ahead, sizeof ahead, " (simulated ahead to %.2f s)", state_.t);
     // --threads auto on a model that splits: how the steps were shared
     char thread_note[96] = "";
@@ -428,7 +448,23 @@ class Viewer {
       std::fprintf(stderr, "clothsim: interrupted at t = %.3f s\n", seen.t);
       return kInterrupted;
     }
+    // closed before the picture reached a failure of the simulation ahead of it: still a failure
+    if (!failure_.empty() && !non_finite_) {
+      std::fflush(stdout);
+      std::fprintf(stderr, "clothsim: %s, ahead of the picture\n", failure_.c_str());
+      return 1;
+    }
     return non_finite_ ? 1 : 0;
+  }
+
+  // The failure the simulation met (failure_), said and shown: paused on the last finite
+  // picture; a timed run has nobody to press R: it ends, and the exit code says it failed.
+  void fail_now() {
+    non_finite_ = true;
+    paused_ = true;
+    std::fprintf(stderr, "clothsim: %s; paused, R resets (try a smaller --dt)\n", failure_.c_str());
+    if (opt_.seconds >= 0.0) glfwSetWindowShouldClose(window_, GLFW_TRUE);
+    update_title();
   }
 
   // The time of the state on screen.
@@ -439,6 +475,8 @@ class Viewer {
   // step or a drag starts from what the user sees); what was computed ahead is dropped.
   void take_back_shown() {
     if (!in_playback_) return;
+    if (playback_->prerolling()) preroll_next_ = true;  // (paused before it moved: the resume pre-rolls in full)
+    failure_.clear();  // (met again when it steps there)
     if (!non_finite_) {
       const State& s = ring_->front();
       state_.x = s.x;
@@ -511,6 +549,7 @@ class Viewer {
         if (in_playback_) ring_->clear();  // what was computed ahead is of the old run
         in_playback_ = false;
         preroll_next_ = true;
+        failure_.clear();
         state_ = make_state(model_);
         stats_reset_ = true;
         dragging_ = false;
@@ -638,6 +677,7 @@ class Viewer {
   bool in_playback_ = false;              ///< the picture plays the ring (else it shows state_)
   bool preroll_next_ = true;              ///< the next start pre-rolls (the first, and after R)
   bool behind_ = false;                   ///< time was dropped in the last half second
+  std::string failure_;                   ///< the simulation went non-finite (said when shown)
   double frame_cost_ = 0.0;               ///< s per frame, smoothed
   std::uint64_t total_steps_ = 0;         ///< model steps taken in the window, and their time
   double total_step_time_ = 0.0;

@@ -21,6 +21,10 @@ class Playback {
  public:
   static constexpr double kMaxPrerollWall = 2.0;   ///< s of wall time a pre-roll may hold the picture
   static constexpr double kMinFrameInterval = 1.0 / 60.0;
+  static constexpr double kMaxFrameInterval = 0.25;  ///< at least 4 frames a second, however empty
+  /// A look-ahead shorter than a few frames is none: the steps between frames could not keep it
+  /// (a 0.02 s look-ahead ran at 0.6x real time where none kept up); the window goes without.
+  static constexpr double kMinLookahead = 0.25;
   static constexpr double kPrerollFrameInterval = 0.25;  ///< frames while pre-rolling (the title says so)
   /// s computed ahead before a resume's picture moves (a pause, a grab or a step left nothing
   /// ahead: without it the picture would wait for the very next state, and count it dropped)
@@ -45,9 +49,9 @@ class Playback {
   /// Whether the simulation should take more steps: less than lookahead() s ahead of the picture.
   bool wants_steps(double latest) const { return latest < shown_ + lookahead_; }
   /// s of wall time between frames: 1/60 s when the look-ahead is full; else a frame costing
-  /// `frame_cost` s takes a share of the time that grows with how full it is (5 % empty, 45.5 %
+  /// `frame_cost` s takes a share of the time that grows with how full it is (10 % empty, 46 %
   /// at 9/10, 95 % nearly full), so that the steps get the rest while the picture eats into
-  /// the look-ahead.
+  /// the look-ahead; never more than kMaxFrameInterval.
   double frame_interval(double latest, double frame_cost) const;
   /// What the window does next, `since_frame` s of wall time after its last frame began, the
   /// newest state it may show at `latest`, the simulation at `sim_t`; `can_step`: whether a step
@@ -109,7 +113,9 @@ class StateRing {
     std::uint64_t every = 1;   ///< model steps between states
     double lookahead = 0.0;    ///< s of simulated time the ring holds
   };
-  static Plan plan(const Model& model, double lookahead, std::size_t max_bytes);
+  /// `substeps`: model steps per step of the user's dt; the spacing is a multiple of it, so a
+  /// state taken back is on a whole step.
+  static Plan plan(const Model& model, double lookahead, std::size_t max_bytes, std::uint64_t substeps = 1);
   static std::size_t bytes_per_state(const Model& model);
 
  private:
