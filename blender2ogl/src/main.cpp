@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <map>
 #include <set>
 #include <string_view>
 
@@ -69,8 +70,25 @@ b2o::conv::Options parse(int argc, char** argv, bool& done) {
   b2o::conv::Options o;
   std::set<std::string> param_keys;
   std::vector<std::string> positional;
+  // Options that take one value, and the output form: given twice they are a mistake (the last
+  // silently won).
+  std::map<std::string, std::string> once;
+  const auto only_once = [&](const std::string& what, const std::string& as) {
+    const auto [it, fresh] = once.emplace(what, as);
+    if (!fresh)
+      throw UsageError(as == it->second ? as + " given twice" : as + " and " + it->second + " given together");
+  };
+  bool options_end = false;  // after "--" every argument is a file
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
+    if (options_end) {
+      positional.push_back(arg);
+      continue;
+    }
+    if (arg == "--") {
+      options_end = true;
+      continue;
+    }
     std::string value;
     bool has_value = false;
     if (arg.rfind("--", 0) == 0 && arg.find('=') != std::string::npos) {
@@ -98,11 +116,14 @@ b2o::conv::Options parse(int argc, char** argv, bool& done) {
       done = true;
       return o;
     } else if (arg == "-t" || arg == "--target") {
+      only_once("-t", "-t");
       o.target_dir = need("-t");
       if (o.target_dir.empty()) throw UsageError("-t: the folder name is empty (leave -t out to write next to the model)");
     } else if (arg == "-s" || arg == "--separate") {
+      only_once("form", "-s");
       o.combined = false;
     } else if (arg == "-c" || arg == "--combined") {
+      only_once("form", "-c");
       o.combined = true;
     } else if (arg == "-m" || arg == "--merge") {
       o.merge = true;
@@ -115,6 +136,7 @@ b2o::conv::Options parse(int argc, char** argv, bool& done) {
     } else if (arg == "-v" || arg == "--verbose") {
       o.verbose = true;
     } else if (arg == "-n" || arg == "--name") {
+      only_once("-n", "-n");
       o.name = need("-n");
       if (o.name.empty()) throw UsageError("-n: the name is empty");
       // A name given is used as it is, or refused: the build that asked for NAME.h would not
@@ -147,7 +169,10 @@ b2o::conv::Options parse(int argc, char** argv, bool& done) {
       const std::string num = kv.substr(eq + 1);
       errno = 0;
       const double v = std::strtod(num.c_str(), &end);
-      if (num.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(v))
+      if (!num.empty() && *end == '\0' && errno == ERANGE)  // (beyond a double, or so small it underflows)
+        throw UsageError("--param " + kv + ": the value is out of a double's range" +
+                         (std::fabs(v) <= 1.0 ? std::string(" (too small: it underflows)") : std::string()));
+      if (num.empty() || *end != '\0' || !std::isfinite(v))
         throw UsageError("--param " + kv + ": the value is not a finite number");
       if (!param_keys.insert(key).second) throw UsageError("--param " + key + " given twice");
       o.params.emplace_back(key, v);
@@ -155,6 +180,7 @@ b2o::conv::Options parse(int argc, char** argv, bool& done) {
       if (has_value) throw UsageError("--allow-missing takes no value");
       o.allow_missing = true;
     } else if (arg == "--depfile") {
+      only_once("--depfile", "--depfile");
       o.depfile = need("--depfile");
     } else if (arg.size() > 1 && arg[0] == '-') {
       throw UsageError("unknown option " + b2o::conv::quote_input(arg));

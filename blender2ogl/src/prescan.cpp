@@ -1,6 +1,7 @@
 // A light check of .obj text before assimp reads it. assimp's OBJ importer accepts binary
 // garbage, truncated lines and out-of-range indices silently (or crashes); this pass only
 // tokenizes lines to give a clear message with a line number. It builds no geometry.
+#include <cctype>
 #include <algorithm>
 #include <cerrno>
 #include <cstdint>
@@ -218,6 +219,20 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
     }
     if (tok.empty()) continue;
     const std::string_view key = tok[0];
+    // MSVC writes infinity and NaN as 1.#INF, -1.#IND, 1.#QNAN: the '#' read as a comment
+    // left "'v' needs 3 coordinates, found 1"
+    if (end < body_all.size() && end > 0 && static_cast<unsigned char>(body_all[end - 1]) > ' ' && key.size() <= 2 &&
+        key[0] == 'v') {
+      std::string after(body_all.substr(end + 1, 4));
+      for (char& ch : after) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+      if (after.rfind("INF", 0) == 0 || after.rfind("IND", 0) == 0 || after.rfind("QNAN", 0) == 0 ||
+          after.rfind("SNAN", 0) == 0) {
+        const std::size_t to = body_all.find_first_of(" \t\r", end);
+        fail(file, start_line, "non-finite number " + quote_input(std::string(tok.back()) +
+                                                          std::string(body_all.substr(end, to == std::string_view::npos ? std::string_view::npos : to - end))) +
+                                   " (MSVC's spelling of infinity or NaN)");
+      }
+    }
     // A comment after the numbers of a v/vt/vn/f/l/p statement: assimp would read it as
     // numbers (f 1 2 3 # x: "Invalid face index"); it is given the line without it.
     if (end < body_all.size() && (key == "v" || key == "vt" || key == "vn" || key == "vp" || key == "f" ||

@@ -60,11 +60,27 @@ TEST(Cli, UsageErrorsExitTwo) {
                                              {"-p", "Cloth:1,2", fixture("grid.obj").string()},
                                              {"--param", "dt", fixture("grid.obj").string()},
                                              {"--param", "dt=x", fixture("grid.obj").string()},
-                                             {"--param", "dt=1", "--param", "dt=2", fixture("grid.obj").string()}}) {
+                                             {"--param", "dt=1", "--param", "dt=2", fixture("grid.obj").string()},
+                                             // one value each: given twice, the last silently won
+                                             {"-t", "a", "-t", "b", fixture("grid.obj").string()},
+                                             {"-n", "a", "-n", "b", fixture("grid.obj").string()},
+                                             {"-c", "-s", fixture("grid.obj").string()},
+                                             {"--depfile", "a.d", "--depfile", "b.d", fixture("grid.obj").string()},
+                                             {"--param", "dt=1e-400", fixture("grid.obj").string()}}) {
     const auto r = run_converter(args);
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("--help"), std::string::npos) << r.output;
   }
+  EXPECT_NE(run_converter({"-c", "-s", fixture("grid.obj").string()}).output.find("-s and -c given together"),
+            std::string::npos);
+  EXPECT_NE(run_converter({"--param", "dt=1e-400", fixture("grid.obj").string()}).output.find("too small: it underflows"),
+            std::string::npos);
+  // after "--" every argument is a file: a model named -m.obj
+  const auto dir = scratch("cli_dashdash");
+  write_file(dir / "-m.obj", "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const auto r = run_converter({"-t", (dir / "out").string(), "--", (dir / "-m.obj").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "out" / "m.h")) << r.output;
 }
 
 TEST(Cli, HelpVersionAndStatistics) {
@@ -257,7 +273,8 @@ TEST(Cli, DepfileFailureChangesNothing) {
 TEST(Cli, SceneNameThatWouldChangeIsRefused) {
   const auto dir = scratch("cli_bad_name");
   write_file(dir / "m.obj", kTriangle);
-  for (const char* name : {"class", "flag_", "std", "b2o", "my scene", "2d", "a__b", "scene", "linux", "unix"}) {
+  for (const char* name : {"class", "flag_", "std", "b2o", "my scene", "2d", "a__b", "scene", "linux", "unix", "SIZE_MAX",
+                           "INT64_MAX"}) {
     const auto r = run_converter({"-n", name, "-t", (dir / "out").string(), (dir / "m.obj").string()});
     EXPECT_EQ(r.exit_code, 2) << name << "\n" << r.output;
     EXPECT_NE(r.output.find("not usable as a scene name"), std::string::npos) << name << ": " << r.output;

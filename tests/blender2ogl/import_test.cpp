@@ -654,6 +654,8 @@ TEST(Import, MisreadLinesAreRefusedAtTheirLine) {
       {"f1.obj", std::string(three) + "f1 2 3\nf 1 2 3\n", "f1.obj:8: unknown statement 'f1'"},
       {"vtx.obj", std::string(three) + "vtx 1 1\nf 1 2 3\n", "vtx.obj:8: unknown statement 'vtx'"},
       {"ox.obj", std::string(three) + "ox name\nf 1 2 3\n", "ox.obj:8: unknown statement 'ox' (assimp would read it as 'o')"},
+      {"msvc.obj", std::string(three) + "v 1.#INF 0 0\nf 1 2 3\n", "msvc.obj:8: non-finite number '1.#INF' (MSVC's"},
+      {"msvc_nan.obj", std::string(three) + "vn 0 -1.#IND 0\nf 1 2 3\n", "non-finite number '-1.#IND'"},
   };
   for (const auto& c : cases) {
     write_file(dir / c.name, c.text);
