@@ -449,7 +449,8 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
   for (unsigned i = 0; i < ai->mNumMeshes; ++i)
     if (ai->mMeshes[i]->mMaterialIndex < ai->mNumMaterials) used[ai->mMeshes[i]->mMaterialIndex] = 1;
   std::vector<std::int32_t> material_map(ai->mNumMaterials, -1);
-  std::map<std::string, std::int32_t> texture_index;
+  std::map<std::string, std::int32_t> texture_index;       // by the name written
+  std::map<std::string, std::int32_t> texture_file_index;  // by the file it resolves to
   for (unsigned i = 0; i < ai->mNumMaterials; ++i) {
     Material m;
     try {
@@ -475,18 +476,23 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
         }
         if (!std::filesystem::is_regular_file(p, ec)) p = folder / rel;
         std::ifstream in(p, std::ios::binary);
-        if (rel.empty() || rel[0] == '*' || !in || std::filesystem::is_directory(p, ec)) {
-          // named at its map_Kd line when the .mtl is known (the statement ends with the name)
-          std::string where = file.string() + ": ";
-          for (const MapKdOf& k : map_kd) {
-            const std::string& a = k.map.argument;
-            const std::size_t n = written.size();
-            if (a == written || (a.size() > n && a.compare(a.size() - n, n, written) == 0 &&
-                                 (a[a.size() - n - 1] == ' ' || a[a.size() - n - 1] == '\t'))) {
-              where = k.mtl.string() + ":" + std::to_string(k.map.line) + ": ";
-              break;
-            }
+        // named at its map_Kd line when the .mtl is known (the statement ends with the name)
+        std::string where = file.string() + ": ";
+        for (const MapKdOf& k : map_kd) {
+          const std::string& a = k.map.argument;
+          const std::size_t n = written.size();
+          if (a == written || (a.size() > n && a.compare(a.size() - n, n, written) == 0 &&
+                               (a[a.size() - n - 1] == ' ' || a[a.size() - n - 1] == '\t'))) {
+            where = k.mtl.string() + ":" + std::to_string(k.map.line) + ": ";
+            break;
           }
+        }
+        // the same file under another spelling (`./tex.png` and `tex.png`): baked once
+        const std::string same_file = std::filesystem::weakly_canonical(p, ec).string();
+        if (const auto known = texture_file_index.find(same_file); in && !same_file.empty() && known != texture_file_index.end()) {
+          m.diffuse_texture = known->second;
+          texture_index[written] = known->second;
+        } else if (rel.empty() || rel[0] == '*' || !in || std::filesystem::is_directory(p, ec)) {
           const std::string what = "texture " + quote_input(written) + " of material " + quote_input(m.name);
           const bool exists = std::filesystem::exists(p, ec);
           if (!allow_missing)
@@ -504,8 +510,8 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
           // image, or a format stb does not read (TIFF, EXR), stops the bake instead of the
           // program that shows the scene.
           if (const std::string why = undecodable_image(bytes); !why.empty()) {
-            const std::string what = p.string() + ": texture " + quote_input(written) + " of material " +
-                                     quote_input(m.name) + " cannot be decoded (" + why +
+            const std::string what = where + "texture " + quote_input(written) + " of material " +
+                                     quote_input(m.name) + " (" + p.string() + ") cannot be decoded (" + why +
                                      "; readable: PNG, JPEG, BMP, TGA, GIF, PSD, HDR, PNM)";
             if (!allow_missing) throw InputError(what + "; --allow-missing converts without it");
             out.warnings.push_back(what + "; the material gets no texture");
@@ -515,6 +521,7 @@ Scene import_scene(const std::filesystem::path& file, bool merge, bool allow_mis
             t.bytes.assign(bytes.begin(), bytes.end());
             m.diffuse_texture = static_cast<std::int32_t>(out.textures.size());
             texture_index[written] = m.diffuse_texture;
+            if (!same_file.empty()) texture_file_index[same_file] = m.diffuse_texture;
             out.textures.push_back(std::move(t));
           }
           out.inputs_read.push_back(std::filesystem::absolute(p));  // a changed file re-bakes either way
