@@ -307,7 +307,7 @@ void bake_scene(Scene& s, const Options& opt, Stats& stats) {
     std::string where = file;  // the helper's line when known
     if (auto it = s.object_lines.find(helper); it != s.object_lines.end() && !it->second.empty())
       where += ":" + std::to_string(it->second.front());
-    if (opt.merge) {  // (-m made one object of all: no object has the helper's target's name)
+    if (opt.merge && find_object(s, target, stem) == nullptr) {  // (-m merged its object into one)
       s.warnings.push_back(where + ": pin object " + quote_input(helper) + " ignored: -m merges the objects (a pin "
                            "needs its object, with -a, unmerged)");
       continue;

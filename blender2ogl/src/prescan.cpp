@@ -141,6 +141,11 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
   // any `usemtl` of the file, or after an `o` without one, is given assimp's default material
   // (a `g` keeps the material before it, as OBJ reads).
   bool no_material = true;
+  // Whether Blender wrote the file (its exporters start with "# Blender"), and a `g` since the
+  // last face that vertices then follow
+  const std::size_t first_text = text.find_first_not_of(" \t\r\n");
+  const bool blender_export = first_text != std::string_view::npos && text.substr(first_text, 9) == "# Blender";
+  bool group_before_vertices = false;
   while (!rest.empty()) {
     ++line_no;
     const std::size_t start_line = line_no;
@@ -157,18 +162,6 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       continued = false;
       const std::size_t slash = line.rfind('\\');
       cuts.push_back({static_cast<std::size_t>(line.data() - text.data()) + slash, 1, {}});
-    }
-    // A '\' followed only by spaces: assimp continues the line there too (`o foo\ ` took the
-    // next line into the name, a vertex lost); in a comment it is cut as above, elsewhere refused
-    if (const std::size_t last = line.find_last_not_of(" \t\r\f\v");
-        !continued && last != std::string_view::npos && line[last] == '\\' && line.substr(last + 1) != "\r" &&
-        last + 1 < line.size()) {
-      const std::size_t first = line.find_first_not_of(" \t");
-      if (line[first] == '#')
-        cuts.push_back({static_cast<std::size_t>(line.data() - text.data()) + last, 1, {}});
-      else
-        fail(file, start_line, "'\\' followed by spaces at the end of the line: assimp continues the line there; "
-                               "remove the spaces after it to continue the line, or the '\\'");
     }
     if (continued) joined.assign(line);
     while (continued && !joined.empty() && (joined.back() == '\\' || (joined.back() == '\r' && joined.size() > 1 && joined[joined.size() - 2] == '\\')) && !rest.empty()) {
@@ -277,6 +270,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       count_in({3, 4, 6}, "3 coordinates (x y z), 4 (x y z w) or 6 (x y z r g b)");
       if (tok.size() == 5 && std::strtod(std::string(tok[4]).c_str(), nullptr) == 0.0) fail(file, start_line, "'v' with w = 0 (a point at infinity)");
       ++scan.positions;
+      if (group_before_vertices) no_material = true, group_before_vertices = false;
       // (vertices before any `o`/`g`, or under a bare `o`: `outside`, for the loose-vertex check)
       Made* under = current_group.empty() ? &outside : &made[current_group];
       if (under->vertices++ == 0 && under == &outside) outside.line = start_line;
@@ -356,12 +350,13 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
         const int this_form = fields == 1 ? 1 : fields == 3 ? 2 : fields == 5 ? 3 : 4;
         if (form < 0) form = this_form;
         if (this_form != form)
-          fail(file, start_line, std::string(face ? "a face" : "a line") + " mixes vertex reference forms (" +
+          fail(file, start_line, "a " + quote_input(key) + " statement mixes vertex reference forms (" +
                                      quote_input(tok[1]) + " and " + quote_input(ref) +
                                      "): assimp would give texture coordinates or normals to the wrong corners; "
                                      "write every corner the same way (v, v/vt, v//vn or v/vt/vn)");
       }
       if (face && owner != intended) throw InputError(misplaced);
+      group_before_vertices = false;
       if (face && no_material) {
         cuts.push_back({static_cast<std::size_t>(line.data() - text.data()), 0, "usemtl DefaultMaterial\n"});
         no_material = false;
@@ -369,7 +364,9 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       if (face) ++scan.faces; else ++scan.lines_points;
     } else if (key == "o" || key == "g") {
       ++scan.groups;
-      if (key == "o") no_material = true;
+      // (a new object resets the material below; a `g` of a Blender export that vertices
+      // follow is one too: Blender 4's "Object Groups" writes `g Obj_Mesh` for `o Obj`)
+      if (blender_export && key == "g") group_before_vertices = true;
       // The name as the file writes it: the rest of the line, spaces inside kept (Blender
       // writes `o My Cloth`), up to a comment (a '#' after a space) and trimmed.
       current_group.clear();
@@ -427,6 +424,7 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       const std::string first =
           seen == scan.object_lines.end() ? "" : " (first at line " + std::to_string(seen->second.front()) + ")";
       const std::string where = file.string() + ":" + std::to_string(start_line) + ": ";
+      if (key == "o" && !(name.empty() || name == intended)) no_material = true;
       if (name.empty() || name == intended) {
         // a continuation (an empty name is left to assimp as before; a `g` with the current
         // object's name makes an object of the same name, which the import joins to it)
@@ -453,7 +451,8 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       const std::size_t a = name.find_first_not_of(" \t\r\f\v"), b = name.find_last_not_of(" \t\r\f\v");
       name = a == std::string::npos ? std::string() : name.substr(a, b - a + 1);
       if (!name.empty()) scan.usemtl.emplace_back(name, start_line);
-      no_material = false;
+      // (Blender 4 writes `usemtl ` with no name for an empty material slot: no material)
+      no_material = name.empty();
     } else if (key == "lod") {
       // A display attribute (level of detail) nothing here uses; assimp 5.2.5 took it for an
       // `l` line and failed ("bad vertex index", no line): it gets the line blank.
@@ -759,7 +758,8 @@ std::string encode_object_name(const std::string& name) {
   std::string out;
   out.reserve(name.size());
   for (unsigned char c : name) {
-    if (c == ' ' || c == '\t' || c == '\f' || c == '\v' || c == '#' || c == '%') {
+    // ('\\': a name ending in one, `o foo\ ` once its spaces were cut, continued the line)
+    if (c == ' ' || c == '\t' || c == '\f' || c == '\v' || c == '#' || c == '%' || c == '\\') {
       const char* hex = "0123456789ABCDEF";
       out.push_back('%');
       out.push_back(hex[c >> 4]);

@@ -174,11 +174,13 @@ TEST(Bake, PinHelperTooFarIsAnError) {
   }
 }
 
-// -m merges every object into one: a pin helper's object is gone, and the helper is ignored
-// with a warning (the whole bake failed: "names no object 'Cloth'"; stop 24).
+// -m merges the objects into one: a pin helper whose object was merged away is ignored with
+// a warning (the whole bake failed: "names no object 'Cloth'"; stop 24); with one object
+// (nothing merged) it still pins.
 TEST(Bake, MergedModelIgnoresItsPinHelper) {
   const auto dir = scratch("bake_pin_merged");
-  write_file(dir / "pins.obj", "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no Cloth_pins\nv 0 0 0\n");
+  write_file(dir / "pins.obj", "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no Floor\nv 0 -1 0\nv 1 -1 0\n"
+                               "v 0 -1 1\nf 4 6 5\no Cloth_pins\nv 0 0 0\n");
   auto o = opts((dir / "pins.obj").string(), {});
   o.merge = true;
   const auto s = convert(o);
@@ -186,6 +188,12 @@ TEST(Bake, MergedModelIgnoresItsPinHelper) {
   ASSERT_FALSE(s.warnings.empty());
   EXPECT_NE(s.warnings.back().find("pin object 'Cloth_pins' ignored: -m merges the objects"),
             std::string::npos) << s.warnings.back();
+  write_file(dir / "one.obj", "o Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no Cloth_pins\nv 0 0 0\n");
+  auto one = opts((dir / "one.obj").string(), {"Cloth"});
+  one.merge = true;
+  const auto p = convert(one);
+  ASSERT_EQ(p.cloths.size(), 1u);
+  EXPECT_EQ(p.cloths[0].pins.size(), 1u);
 }
 
 // A pin helper must pin something: one naming no object (a typo, or a name assimp cut short)

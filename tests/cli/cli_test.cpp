@@ -661,7 +661,7 @@ TEST(Cli, ViewerOptionsThatWouldDoNothingAreBadInput) {
   for (const char* args : {"--headless --fps 10", "--headless --width 100", "--headless --height 100",
                            "--headless --paused", "--headless --no-vsync", "--headless --lookahead 1",
                            "--fps 10 --seconds 1", "--lookahead -1", "--lookahead 61", "--lookahead x",
-                           "--lookahead nan", "--lookahead 0.1", "--lookahead 1e-300"}) {
+                           "--lookahead nan", "--lookahead 0.1", "--lookahead 1e-300", "--lookahead 1e-400"}) {
     const Result r = run(std::string("--quiet --steps 5 --report ") + q(d / "r.json") + " " + args);
     EXPECT_EQ(r.code, 2) << args << ": " << r.output;
     EXPECT_EQ(lines(r.output), 1) << r.output;

@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <optional>
 #include <csignal>
 #include <charconv>
@@ -349,8 +350,9 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
           ->transform(a_number)
           ->check([](const std::string& v) -> std::string {
             // (a_number has read it; nan and inf are no numbers here)
+            errno = 0;
             const double x = std::strtod(v.c_str(), nullptr);
-            if (x == 0.0 || (x >= 0.25 && x <= 60.0)) return {};
+            if ((x == 0.0 && errno != ERANGE) || (x >= 0.25 && x <= 60.0)) return {};  // (1e-400 is no 0)
             return "0 (off) or 0.25 to 60 s, got " + v + " (a shorter look-ahead cannot keep up)";
           });
 

@@ -270,7 +270,9 @@ class Viewer {
           if (!in_playback_) fail_now();
           break;
         }
-        if (in_playback_ && (state_.steps % snap_every_ == 0 || at_end())) ring_->push(state_);
+        // (room() made room for it; a full ring here would be a rounding room() did not foresee:
+        // then this state is not kept, and the picture ends one state early)
+        if (in_playback_ && (state_.steps % snap_every_ == 0 || at_end()) && !ring_->full()) ring_->push(state_);
       }
       const double spent = std::chrono::duration<double>(Clock::now() - t0).count();
       if (done > 0) step_cost_ = view::next_step_cost(step_cost_, spent / static_cast<double>(done));
@@ -416,13 +418,15 @@ class Viewer {
       std::snprintf(pace, sizeof pace, "fell behind: %.3g s of simulated time dropped", dropped());
     else
       std::snprintf(pace, sizeof pace, "kept up: no time dropped");
-    if (playback_ && playback_->preroll_wall() > 0.0) {
+    if (playback_) {
       const std::string p = pace;
       char lowest[32] = "";  // (none when everything was computed during the pre-roll)
       if (std::isfinite(playback_->lowest_ahead()))
         std::snprintf(lowest, sizeof lowest, " (lowest %.2f s)", playback_->lowest_ahead());
-      std::snprintf(pace, sizeof pace, "%s; look-ahead %.2f s%s, %.2f s of pre-roll", p.c_str(),
-                    playback_->lookahead(), lowest, playback_->preroll_wall());
+      char preroll[40] = "";  // (a few milliseconds: not worth a word)
+      if (playback_->preroll_wall() >= 0.005)
+        std::snprintf(preroll, sizeof preroll, ", %.2f s of pre-roll", playback_->preroll_wall());
+      std::snprintf(pace, sizeof pace, "%s; look-ahead %.2f s%s%s", p.c_str(), playback_->lookahead(), lowest, preroll);
     }
     char ahead[64] = "";
     if (!non_finite_ && state_.t >= seen.t + 0.005)  // (what two decimals tell apart)

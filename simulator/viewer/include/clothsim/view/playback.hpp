@@ -80,8 +80,8 @@ class Playback {
 };
 
 /// Whether the step that makes model step `next_step` leaves a state the ring keeps: one every
-/// `every` steps, and a timed run's last (`end` >= 0: simulated time it ends at; the step from
-/// `t` of `dt` is judged the last one within half a step, a step early rather than late).
+/// `every` steps, and a timed run's last (`end` >= 0: simulated time it ends at; the steps
+/// from `t` of `dt` within two and a half steps of it count, early rather than late).
 bool keeps_state(std::uint64_t next_step, std::uint64_t every, double t, double dt, double end);
 
 /// The states the simulation left ahead of the picture, one every `every` steps: a ring of
