@@ -28,13 +28,13 @@ case "$what" in
   run)
     if [[ -n "${DISPLAY:-}" ]] && xdpyinfo >/dev/null 2>&1 || [[ -n "${WAYLAND_DISPLAY:-}" ]]; then
       echo "dev.sh: opening the skirt scene in a window (Esc quits; --help lists the keys)"
-      exec "$bin/clothsim"
+      exec "$bin/clothsim_skirt"
     fi
     mkdir -p out
     echo "dev.sh: no display: simulating 20 s of the skirt scene headless"
-    "$bin/clothsim" --headless --seconds 20 --report out/skirt.json
-    if [[ -x "$bin/clothsim" ]] && "$bin/clothsim" --help 2>/dev/null | grep -q -- '--screenshot'; then
-      xvfb-run -a -s "-screen 0 1280x720x24" "$bin/clothsim" --seconds 20 --screenshot out/skirt.png
+    "$bin/clothsim_skirt" --headless --seconds 20 --report out/skirt.json
+    if [[ -x "$bin/clothsim_skirt" ]] && "$bin/clothsim_skirt" --help 2>/dev/null | grep -q -- '--screenshot'; then
+      xvfb-run -a -s "-screen 0 1280x720x24" "$bin/clothsim_skirt" --seconds 20 --screenshot out/skirt.png
     fi
     echo "dev.sh: wrote $(ls out/skirt.* | tr '\n' ' ')"
     ;;

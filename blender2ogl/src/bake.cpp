@@ -267,8 +267,18 @@ void bake_scene(Scene& s, const Options& opt, Stats& stats) {
   std::vector<std::uint32_t> chosen;
   for (const std::string& want : opt.cloth_objects) {
     const Object* o = find_object(s, want, stem);
-    if (o == nullptr)
-      throw InputError(file + ": no object " + quote_input(want) + " to give masses (-a); objects: " + object_list(s));
+    if (o == nullptr) {
+      // `CLOTH My Flag` unquoted in CMake gives `-a My`: say which name it was cut from
+      std::string hint;
+      for (const Object& other : s.objects)
+        if (other.name.size() > want.size() + 1 && other.name.compare(0, want.size() + 1, want + " ") == 0) {
+          hint = " (did you mean " + quote_input(other.name) + "? a name with spaces must be quoted: -a \"" +
+                 other.name + "\", CLOTH \"" + other.name + "\")";
+          break;
+        }
+      throw InputError(file + ": no object " + quote_input(want) + " to give masses (-a)" + hint + "; objects: " +
+                       object_list(s));
+    }
     // a name two objects share (a repeated `g`): only its identifier tells them apart
     if (want != o->identifier || want == o->name) {
       std::size_t same = 0;

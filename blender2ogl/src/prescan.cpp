@@ -524,9 +524,9 @@ ObjScan prescan_obj_file(const std::filesystem::path& file) {
       scan.warnings.push_back(
           file.string() + ":" + std::to_string(m.line) + ": object " + quote_input(name) + " has " +
           std::to_string(m.vertices) + " vertices and no face uses them: left out (only faces are drawn)" +
-          (pin_like ? std::string("; a pin helper is found by the exact name '<cloth>_pins' (Blender's legacy "
-                                  "exporter writes 'Object_Mesh': give the mesh data the object's name, or use "
-                                  "Blender 3.3's exporter)")
+          (pin_like ? std::string("; a pin helper is found by the exact name '<cloth>_pins' (Blender 4's "
+                                  "'Object Groups' and the legacy exporter write 'Object_Mesh': untick Object "
+                                  "Groups, or give the mesh data the object's name)")
                     : std::string()));
     }
   // Loose vertices of an object that has faces (the 2016 skirt's 353rd, at the origin): assimp

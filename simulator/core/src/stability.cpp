@@ -338,7 +338,7 @@ std::string describe(const StabilityReport& r, Integrator method) {
   char buf[320];
   std::snprintf(buf, sizeof buf,
                 "stability: omega_max %.4g rad/s (springs %.4g by %s, contact %.4g; "
-                "Gershgorin bound %.4g) -> %s dt_stable %.4g s",
+                "the springs' Gershgorin bound %.4g) -> %s dt_stable %.4g s",
                 r.omega_max, r.omega_springs,
                 r.springs_by_bound ? "Gershgorin: Lanczos did not converge" : "Lanczos", r.omega_contact,
                 r.omega_bound, to_string(method), r.dt_stable);

@@ -102,7 +102,8 @@ StateRing::Plan StateRing::plan(const Model& model, double lookahead, std::size_
     if (substeps > 1) p.every = (p.every + substeps - 1) / substeps * substeps;  // whole steps of dt
     const double spacing = static_cast<double>(p.every) * dt;
     // the one on screen, the look-ahead, and one more so a step never waits for the picture
-    const auto want = static_cast<std::size_t>(std::ceil(lookahead / spacing - 1e-9)) + 2;
+    // (never more than asked: floor, at least one state ahead)
+    const auto want = std::max<std::size_t>(static_cast<std::size_t>(std::floor(lookahead / spacing + 1e-9)), 1) + 2;
     p.capacity = std::min(want, fit);
     p.lookahead = static_cast<double>(p.capacity - 2) * spacing;
     if (want <= fit) break;
