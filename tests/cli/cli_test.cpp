@@ -269,6 +269,7 @@ TEST(Cli, ReportHasTheKeys) {
   EXPECT_TRUE(j["warnings"].is_array() && j["warnings"].empty()) << j["warnings"];
   EXPECT_EQ(j["scene"], "dice");
   EXPECT_EQ(j["masses"], 16);
+  EXPECT_EQ(j["pinned_masses"], 0);
   EXPECT_EQ(j["collider_triangles"], 2);
   EXPECT_EQ(j["steps"], 50);
   EXPECT_EQ(j["finite"], true);
@@ -738,3 +739,21 @@ TEST(WorkPrecision, OutputsIntoDevicesAreWrittenThrough) {
 #endif
 
 }  // namespace
+
+#ifdef CLOTHSIM_HANGING_EXE
+// The report counts the pinned masses, so a user can see that a `<cloth>_pins` helper's pins
+// landed (the hanging cloth: two corners, from its Cloth_pins helper; stop 24).
+TEST(Cli, ReportCountsThePinnedMasses) {
+  const fs::path d = fresh_dir("report_pins");
+  const std::string cmd = std::string(CLOTHSIM_HANGING_EXE) + " --headless --quiet --steps 2 --report '" +
+                          (d / "r.json").string() + "' 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  char buf[256];
+  while (std::fgets(buf, sizeof buf, p)) {}
+  ASSERT_EQ(pclose(p), 0);
+  const auto j = read_json(d / "r.json");
+  EXPECT_EQ(j["scene"], "hanging");
+  EXPECT_EQ(j["pinned_masses"], 2);
+}
+#endif

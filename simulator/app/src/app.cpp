@@ -765,6 +765,7 @@ int run_app(int argc, char** argv, const b2o::Scene& scene) {
     r["masses"] = model.mass_count();
     r["springs"] = model.spring_count();
     r["bend_springs"] = std::count(model.spring_kind.begin(), model.spring_kind.end(), std::uint8_t{1});
+    r["pinned_masses"] = std::count(model.pinned.begin(), model.pinned.end(), std::uint8_t{1});  // (a helper's pins land)
     r["collider_triangles"] = collider_triangle_count(model);
     r["dt"] = opts.dt;
     r["steps"] = done;  // steps of dt completed
