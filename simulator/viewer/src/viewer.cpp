@@ -251,7 +251,7 @@ class Viewer {
     const double dt = model_.options.dt;
     const auto at_end = [&] { return opt_.seconds >= 0.0 && state_.t >= opt_.seconds - 0.5 * dt; };
     // Whether the ring has room for what the next step leaves: a state every snap_every_ model
-    // steps, and the last one of a timed run (judged a step early, never late).
+    // steps, and the last one of a timed run (judged early, never late: keeps_state()).
     const auto room = [&] {
       return !ring_->full() || !view::keeps_state(state_.steps + 1, snap_every_, state_.t, dt, opt_.seconds);
     };
