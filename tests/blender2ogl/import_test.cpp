@@ -14,17 +14,6 @@ namespace {
 using namespace b2o::test;
 using b2o::conv::import_scene;
 
-// Runs f, which must throw an InputError whose message holds `part`.
-template <class F>
-void expect_input_error(F f, const std::string& part) {
-  try {
-    f();
-    ADD_FAILURE() << "no error; expected one with: " << part;
-  } catch (const b2o::conv::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
-  }
-}
-
 TEST(Import, GridObjectsMaterialsAndTexture) {
   const auto s = import_scene(fixture("grid.obj"), false);
   ASSERT_EQ(s.objects.size(), 2u);  // Cloth_pins is a helper, not an object

@@ -3,6 +3,7 @@
 #define B2O_TESTS_SUPPORT_HPP
 
 #include <blender2ogl/scene_types.h>
+#include <gtest/gtest.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +18,17 @@
 namespace b2o::test {
 
 namespace fs = std::filesystem;
+
+// Runs f, which must throw an InputError whose message holds `part`.
+template <class F>
+inline void expect_input_error(F f, const std::string& part) {
+  try {
+    f();
+    ADD_FAILURE() << "no error; expected one with: " << part;
+  } catch (const b2o::conv::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+  }
+}
 
 inline fs::path fixture(const std::string& name) { return fs::path(B2O_FIXTURES) / name; }
 

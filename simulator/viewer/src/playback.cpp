@@ -65,13 +65,7 @@ StateRing::StateRing(const Model& model, std::size_t capacity) {
 
 void StateRing::push(const State& s) {
   if (full()) throw std::logic_error("StateRing::push(): full");
-  State& slot = slots_[(head_ + count_) % slots_.size()];
-  slot.x = s.x;  // same sizes: the memory is reused
-  slot.v = s.v;
-  slot.t = s.t;
-  slot.steps = s.steps;
-  slot.drag = s.drag;
-  slot.max_penetration = s.max_penetration;
+  slots_[(head_ + count_) % slots_.size()] = s;  // (same sizes: Eigen reuses the slot's memory)
   ++count_;
 }
 

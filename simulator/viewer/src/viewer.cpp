@@ -481,15 +481,7 @@ class Viewer {
     if (!in_playback_) return;
     if (playback_->prerolling()) preroll_next_ = true;  // (paused before it moved: the resume pre-rolls in full)
     failure_.clear();  // (met again when it steps there)
-    if (!non_finite_) {
-      const State& s = ring_->front();
-      state_.x = s.x;
-      state_.v = s.v;
-      state_.t = s.t;
-      state_.steps = s.steps;
-      state_.drag = s.drag;
-      state_.max_penetration = s.max_penetration;
-    }
+    if (!non_finite_) state_ = ring_->front();
     ring_->clear();
     in_playback_ = false;
     clock_.reset();
