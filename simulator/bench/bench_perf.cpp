@@ -53,12 +53,11 @@ void BM_SpringsGather(benchmark::State& st) {
   const State s = make_state(m);
   Workspace ws = make_workspace(m);
   Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, s.x.cols());
-  set_threads(static_cast<int>(st.range(1)));
+  ws.threads = static_cast<int>(st.range(1));
   for (auto _ : st) {
     add_spring_forces(m, s.x, f, ws);
     benchmark::DoNotOptimize(f.data());
   }
-  set_threads(1);
   per_spring(st, m);
 }
 
@@ -208,9 +207,8 @@ void BM_Step(benchmark::State& st) {
   const Model m = perf::grid_model(static_cast<int>(st.range(0)));
   State s = make_state(m);
   Workspace ws = make_workspace(m);
-  set_threads(static_cast<int>(st.range(1)));
+  ws.threads = static_cast<int>(st.range(1));
   for (auto _ : st) step(m, s, ws);
-  set_threads(1);
   per_spring(st, m);
 }
 

@@ -140,11 +140,10 @@ struct Csv {
 
 // Runs `steps` steps with `threads` threads from the model's start; returns the state hash.
 std::uint64_t run_hash(const Model& m, int steps, int threads) {
-  set_threads(threads);
   State s = make_state(m);
   Workspace ws = make_workspace(m);
+  ws.threads = threads;
   for (int i = 0; i < steps; ++i) step(m, s, ws);
-  set_threads(1);
   return state_hash(s);
 }
 
@@ -152,13 +151,13 @@ void skirt_table(const char* label, const b2o::Scene& scene, double settle, Csv&
   const Model m = build_model(scene, scene_options(scene));
   State s = make_state(m);
   Workspace ws = make_workspace(m);
-  set_threads(2);
+  ws.threads = 2;
   while (s.t < settle - 0.5 * m.options.dt) step(m, s, ws);  // on the collider, as most of a run is
-  set_threads(1);
+  ws.threads = 1;
   const double t1 = timed([&] { step(m, s, ws); });
-  set_threads(2);
+  ws.threads = 2;
   const double t2 = timed([&] { step(m, s, ws); });
-  set_threads(1);
+  ws.threads = 1;
   // collision alone: BVH with hints (as in step) vs brute force, same positions
   Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, s.x.cols());
   PenaltyStats st;
@@ -287,15 +286,15 @@ int main(int argc, char** argv) {
     const double sc = static_cast<double>(m.spring_count());
     Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, s.x.cols());
     const double scatter = timed([&] { add_spring_forces(m, s.x, f); });
-    set_threads(1);
+    ws.threads = 1;
     const double g1 = timed([&] { add_spring_forces(m, s.x, f, ws); });
-    set_threads(2);
+    ws.threads = 2;
     const double g2 = timed([&] { add_spring_forces(m, s.x, f, ws); });
-    set_threads(1);
+    ws.threads = 1;
     const double st1 = timed([&] { step(m, s, ws); });
-    set_threads(2);
+    ws.threads = 2;
     const double st2 = timed([&] { step(m, s, ws); });
-    set_threads(1);
+    ws.threads = 1;
     const bool same = run_hash(m, 20, 1) == run_hash(m, 20, 2);
     all_identical = all_identical && same;
     const auto mem = perf::memory_per_mass(m, s, ws);
@@ -342,11 +341,11 @@ int main(int argc, char** argv) {
       const double brute = timed([&] {
         accumulate_penalty(*set, xs, o.epsilon, o.k_rep, fs, st, {}, QueryMethod::BruteForce);
       }) / static_cast<double>(xs.cols());
-      set_threads(1);
+      ws.threads = 1;
       const double st1 = timed([&] { step(m, s, ws); });
-      set_threads(2);
+      ws.threads = 2;
       const double st2 = timed([&] { step(m, s, ws); });
-      set_threads(1);
+      ws.threads = 1;
       const bool same = run_hash(m, 5, 1) == run_hash(m, 5, 2);
       all_identical = all_identical && same;
       const double bpt = static_cast<double>(set->bvh_bytes()) / tris;

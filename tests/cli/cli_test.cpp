@@ -106,12 +106,12 @@ TEST(Cli, BadValuesExitTwoWithAMessageAndWriteNothing) {
     const char* args;
     const char* says;
   } cases[] = {{"--dt 0", "dt"},           {"--dt -0.01", "dt"},     {"--dt nan", "dt"},
-               {"--mass 0", "mass"},        {"--k-struct -5", "k_struct"}, {"--damping inf", "damping"},
+               {"--mass 0", "mass"},        {"--k-struct -5", "--k-struct"}, {"--damping inf", "damping"},
                {"--dt abc", "--dt"},        {"--bogus", "bogus"},     {"--seconds 1 --steps 5", "steps"},
                {"--seconds -2", "seconds"}, {"-step 0", "dt"},   {"--threads abc", "--threads"},
                {"--threads -1", "--threads"}, {"--threads 1025", "--threads"}, {"--threads Auto", "auto"},
-               {"--gravity ''", "--gravity: needs a number"}, {"--dt ''", "--dt: needs a number"},
-               {"--dt 0x10", "--dt: takes a decimal number"}};
+               {"--gravity ''", "--gravity"}, {"--dt ''", "--dt needs a number"},
+               {"--dt 0x10", "--dt takes a decimal number"}};
   for (const Case& c : cases) {
     const Result r = run(std::string("--headless --report '") + report + "' " + c.args);
     EXPECT_EQ(r.code, 2) << c.args << ": " << r.output;
@@ -451,7 +451,7 @@ TEST(Cli, SeedAliasesAndPhysicalOptionsReachTheReport) {
   EXPECT_DOUBLE_EQ(o["k_bend"].get<double>(), 40);
   EXPECT_DOUBLE_EQ(o["damping"].get<double>(), 0.3);
   EXPECT_DOUBLE_EQ(o["k_rep"].get<double>(), 800);
-  EXPECT_DOUBLE_EQ(o["gravity"][1].get<double>(), -1.0);
+  EXPECT_DOUBLE_EQ(o["gravity_y"].get<double>(), -1.0);
 }
 
 TEST(Cli, ExportObjWritesEveryKSteps) {

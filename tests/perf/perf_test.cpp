@@ -24,12 +24,11 @@ Model jittered_grid(int n, std::shared_ptr<const ColliderSet> colliders = nullpt
 }
 
 std::uint64_t run(const Model& m, int steps, int threads, bool gathered = true) {
-  set_threads(threads);
   State s = make_state(m);
   Workspace ws = make_workspace(m);
-  if (!gathered) ws.adjacency.reset();  // the scatter loop, as before issue 6
+  ws.threads = threads;
+  if (!gathered) ws.adjacency.reset();  // the scatter loop
   for (int i = 0; i < steps; ++i) EXPECT_TRUE(step(m, s, ws).finite);
-  set_threads(1);
   return state_hash(s);
 }
 
@@ -131,13 +130,10 @@ TEST(Gather, WorkspaceWithoutAdjacencyFallsBackToTheScatter) {
   EXPECT_EQ(run(m, 30, 1, true), run(m, 30, 1, false));
 }
 
-TEST(Threads, SetAndRead) {
-  set_threads(2);
-#ifdef _OPENMP
-  EXPECT_EQ(threads(), 2);
-#endif
-  set_threads(1);
-  EXPECT_EQ(threads(), 1);
+TEST(Threads, ZeroMeansEveryCore) {
+  EXPECT_EQ(resolve_threads(3), step_splits(jittered_grid(72)) ? 3 : 3);
+  EXPECT_GE(resolve_threads(0), 1);
+  EXPECT_EQ(resolve_threads(0), resolve_threads(-1));
 }
 
 // Large enough (> 4096 masses) that the loops really split between threads.
@@ -167,11 +163,10 @@ TEST(Threads, SwitchingTheCountWhileSteppingIsBitIdentical) {
     Workspace ws = make_workspace(m);
     int in_contact = 0;  // steps with contact forces: the collision's split is switched too
     for (int i = 0; i < 60; ++i) {
-      set_threads(i / 7 % 2 == 0 ? 2 : 1);  // 1..7 on two threads, 8..14 on one, ...
+      ws.threads = i / 7 % 2 == 0 ? 2 : 1;  // 1..7 on two threads, 8..14 on one, ...
       ASSERT_TRUE(step(m, s, ws).finite);
       if (ws.last_contacts > 0) ++in_contact;
     }
-    set_threads(1);
     EXPECT_GT(in_contact, 30);
     EXPECT_EQ(state_hash(s), one);
   }
@@ -182,11 +177,10 @@ TEST(Threads, SwitchingTheCountWhileSteppingIsBitIdentical) {
     ThreadChooser chooser(2);
     int switches = 0;
     for (int i = 0; i < 60; ++i) {
-      if (threads() != chooser.threads()) set_threads(chooser.threads()), ++switches;
+      if (ws.threads != chooser.threads()) ws.threads = chooser.threads(), ++switches;
       ASSERT_TRUE(step(m, s, ws).finite);
       chooser.step_took(2e-3);
     }
-    set_threads(1);
     EXPECT_EQ(chooser.steps_many(), static_cast<std::uint64_t>(ThreadChooser::kWarm + ThreadChooser::kTrialSteps));
     EXPECT_EQ(chooser.steps_one(), 60 - chooser.steps_many());
     EXPECT_GE(switches, 1);
@@ -197,9 +191,9 @@ TEST(Threads, SwitchingTheCountWhileSteppingIsBitIdentical) {
     Workspace ws = make_workspace(m);
     ThreadChooser chooser(2);
     for (int i = 0; i < 10; ++i) ASSERT_TRUE(chosen_step(chooser, m, s, ws).finite);
-    EXPECT_EQ(threads(), 2);
+    EXPECT_EQ(ws.threads, 2);
     EXPECT_EQ(chooser.steps_many(), 10u);
-    set_threads(1);
+    ws.threads = 1;
     for (int i = 10; i < 60; ++i) ASSERT_TRUE(step(m, s, ws).finite);
     EXPECT_EQ(state_hash(s), one);
   }

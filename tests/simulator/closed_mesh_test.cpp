@@ -242,7 +242,7 @@ TEST(ColliderWarnings, MassesThrownOutOfTheContactBandAreNamed) {
   // throws, and the message gives it in newtons
   m.pinned = {0, 0, 0, 0, 1};
   EXPECT_EQ(count_launched(*set, 0, m.x0, m.mass, m.pinned, 0.1, 600.0, 9.81, 10.0).count, 1u);
-  m.options.gravity.setZero();
+  m.options.gravity_x = m.options.gravity_y = m.options.gravity_z = 0.0;
   expect_one_warning(m, "3 of 5 masses start within the contact band of collider 'floor' (epsilon 0.1 m) and get "
                         "up to 30 N at once, with no gravity to hold them");
 }

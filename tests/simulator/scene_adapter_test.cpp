@@ -51,42 +51,45 @@ b2o::Scene tiny() {
 }
 
 TEST(SceneAdapter, ParamsOverrideDefaultsAndUnknownKeysAreReported) {
-  std::vector<std::string> unknown;
-  const Options o = scene_options(tiny(), Options{}, &unknown);
-  EXPECT_EQ(o.k_rep, 321.0);
-  EXPECT_EQ(o.dt, 0.004);
-  EXPECT_EQ(o.mass, Options{}.mass);
-  ASSERT_EQ(unknown.size(), 1u);
-  EXPECT_EQ(unknown[0], "camera_distance");
+  const BakedParams p = read_scene_params(tiny());
+  EXPECT_EQ(p.options.k_rep, 321.0);
+  EXPECT_EQ(p.options.dt, 0.004);
+  EXPECT_EQ(p.options.mass, Options{}.mass);
+  ASSERT_EQ(p.unknown.size(), 1u);
+  EXPECT_EQ(p.unknown[0], "camera_distance");
+  EXPECT_TRUE(p.refused.empty());
 }
 
-// One source of truth for the PARAMS keys: the build refuses keys outside the CMake list
-// (cmake/Blender2oglBake.cmake), so the list must be exactly the keys the adapter reads.
-TEST(SceneAdapter, ParamKeysAreTheCMakeList) {
-  std::set<std::string> cmake_keys;
-  const std::string list = B2O_CMAKE_PARAM_KEYS;
-  for (std::size_t at = 0; at <= list.size();) {
-    const std::size_t comma = std::min(list.find(',', at), list.size());
-    if (comma > at) cmake_keys.insert(list.substr(at, comma - at));
-    at = comma + 1;
-  }
-  const std::set<std::string> adapter_keys(scene_param_keys().begin(), scene_param_keys().end());
-  EXPECT_EQ(adapter_keys.size(), scene_param_keys().size()) << "a key listed twice";
-  EXPECT_EQ(cmake_keys, adapter_keys) << "update BLENDER2OGL_PARAM_KEYS in cmake/Blender2oglBake.cmake";
-  // and every listed key is read: a scene baking it changes the options
-  for (const std::string& key : scene_param_keys()) {
+// Every option of the table is a PARAMS key: a scene baking it changes that option and no other.
+TEST(SceneAdapter, EveryTableOptionCanBeBaked) {
+  for (const OptionInfo& option : option_table()) {
+    if (option.is_choice) continue;  // (a number param cannot name a choice)
+    const std::string key(option.name);
     const b2o::Param p[] = {{key.c_str(), 12345.0}};
     b2o::Scene s = tiny();
     s.param_count = 1;
     s.params = p;
-    std::vector<std::string> unknown;
-    const Options o = scene_options(s, Options{}, &unknown);
-    EXPECT_TRUE(unknown.empty()) << key;
-    EXPECT_TRUE(o.dt == 12345.0 || o.mass == 12345.0 || o.k_struct == 12345.0 || o.k_bend == 12345.0 ||
-                o.damping == 12345.0 || o.gravity.x() == 12345.0 || o.gravity.y() == 12345.0 ||
-                o.gravity.z() == 12345.0 || o.epsilon == 12345.0 || o.k_rep == 12345.0)
-        << key;
+    const BakedParams baked = read_scene_params(s);
+    EXPECT_TRUE(baked.unknown.empty() && baked.refused.empty()) << key;
+    for (const OptionInfo& other : option_table()) {
+      if (other.is_choice) continue;
+      EXPECT_EQ(other.value(baked.options) == 12345.0, other.name == option.name) << key;
+    }
   }
+}
+
+// A baked value the option refuses is named with its key and not applied; scene_options() throws.
+TEST(SceneAdapter, ARefusedValueIsNamedNotApplied) {
+  const b2o::Param p[] = {{"dt", -1.0}};
+  b2o::Scene s = tiny();
+  s.param_count = 1;
+  s.params = p;
+  const BakedParams baked = read_scene_params(s);
+  ASSERT_EQ(baked.refused.size(), 1u);
+  EXPECT_EQ(baked.refused[0].key, "dt");
+  EXPECT_NE(baked.refused[0].why.find("must be a finite number > 0 (got -1)"), std::string::npos);
+  EXPECT_EQ(baked.options.dt, Options{}.dt);
+  EXPECT_THROW(scene_options(s), std::runtime_error);
 }
 
 TEST(SceneAdapter, ClothBecomesMassesSpringsPinsAndTheRestColliders) {

@@ -12,9 +12,8 @@ namespace {
 const b2o::Scene& scene() { return b2o::gen::hanging::scene; }
 
 TEST(HangingScene, HangsFromItsTwoPinsAndComesToRest) {
-  std::vector<std::string> unknown;
-  const Options o = scene_options(scene(), Options{}, &unknown);
-  EXPECT_TRUE(unknown.empty());
+  EXPECT_TRUE(read_scene_params(scene()).unknown.empty());
+  const Options o = scene_options(scene());
   EXPECT_LT(o.dt, Options{}.dt) << "the hanging scene bakes its own (smaller) dt";
   const Model m = build_model(scene(), o);
   ASSERT_EQ(m.cloths.size(), 1u);

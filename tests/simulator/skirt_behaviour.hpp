@@ -28,7 +28,7 @@ inline void check_skirt(const b2o::Scene& scene, int check_every, SkirtRun* out 
   ASSERT_GT(m.mass_count(), 300u);
   ASSERT_TRUE(m.colliders);
   const Options& o = m.options;
-  EXPECT_EQ(o.gravity.y(), -9.81);  // real gravity
+  EXPECT_EQ(o.gravity_y, -9.81);  // real gravity
 
   // the sphere: centre = mean of its vertices; floor: its height
   const b2o::Object& sphere = find_object(scene, "Sphere");

@@ -191,9 +191,13 @@ TEST(StateRing, PlansSixtyStatesPerSecondOrThirtyWhenSixtyDoNotFit) {
   const auto tight = cv::StateRing::plan(model, 2.0, 100 * bytes);  // 120 would not fit, 62 do
   EXPECT_EQ(tight.every, 33u);
   EXPECT_EQ(tight.capacity, static_cast<std::size_t>(std::floor(2.0 / 0.033)) + 2);
-  // with 4 substeps per step of dt the spacing is whole steps: 17 -> 20 model steps
-  EXPECT_EQ(cv::StateRing::plan(model, 2.0, std::size_t{1} << 30, 4).every, 20u);
-  EXPECT_EQ(cv::StateRing::plan(model, 2.0, std::size_t{1} << 30, 17).every, 17u);
+  // with 4 substeps per step of dt (model steps of dt / 4 = 1 ms) the spacing is whole steps:
+  // 17 -> 20 model steps
+  for (const auto& [substeps, every] : {std::pair<int, std::uint64_t>{4, 20}, {17, 17}}) {
+    clothsim::Model sub = model;
+    sub.options.dt = substeps * 1e-3;
+    EXPECT_EQ(cv::StateRing::plan(sub, 2.0, std::size_t{1} << 30, static_cast<std::uint64_t>(substeps)).every, every);
+  }
   const auto tiny = cv::StateRing::plan(model, 2.0, 12 * bytes);  // the look-ahead shrinks to fit
   EXPECT_EQ(tiny.capacity, 12u);
   EXPECT_NEAR(tiny.lookahead, 10 * 0.033, 1e-12);

@@ -468,13 +468,14 @@ double max_stoppable_speed(double epsilon, double k_rep, double mass, double h) 
 TunnellingReport check_tunnelling(const Model& model, double h, double lowest_collider) {
   TunnellingReport r;
   const Options& o = model.options;
-  const double g = o.gravity.norm();
+  const Eigen::Vector3d gv = gravity(o);
+  const double g = gv.norm();
   const double m_max = max_free_mass(model);
   r.stop_speed = m_max > 0.0 ? o.epsilon * std::sqrt(o.k_rep / m_max) : 0.0;
   r.see_speed = o.epsilon / h;
   r.max_speed = std::min(r.stop_speed, r.see_speed);
   if (!(g > 0.0) || m_max <= 0.0) return r;
-  const Eigen::Vector3d up = -o.gravity / g;
+  const Eigen::Vector3d up = -gv / g;
   if (std::isnan(lowest_collider)) {
     if (!has_colliders(model)) return r;
 #ifdef CLOTHSIM_HAVE_COLLISION

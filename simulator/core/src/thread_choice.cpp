@@ -59,7 +59,7 @@ void ThreadChooser::step_took(double seconds) {
 }
 
 StepStatus chosen_step(ThreadChooser& chooser, const Model& model, State& state, Workspace& ws) {
-  if (threads() != chooser.threads()) set_threads(chooser.threads());
+  ws.threads = chooser.threads();
   if (chooser.cores() == 1) {  // nothing to measure: no clock
     const StepStatus st = step(model, state, ws);
     chooser.step_took(0.0);

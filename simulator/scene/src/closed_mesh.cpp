@@ -157,7 +157,7 @@ std::vector<std::string> collider_warnings(const Model& model, double work_budge
     // large as the scene, a cloth placed just above a floor): a dice cloth at --epsilon 3 flew
     // 100 m up, a 1 cm cloth with the default 0.1 m band 7 km.
     {
-      const double g = model.options.gravity.norm();
+      const double g = gravity(model.options).norm();
       const LaunchCount l = count_launched(set, o, model.x0, model.mass, model.pinned, model.options.epsilon,
                                            model.options.k_rep, g, 10.0);
       if (l.count > 0) {

@@ -12,41 +12,29 @@ namespace clothsim {
 
 namespace {
 
-double* option_slot(Options& o, const std::string& key) {
-  if (key == "dt") return &o.dt;
-  if (key == "mass") return &o.mass;
-  if (key == "k_struct") return &o.k_struct;
-  if (key == "k_bend") return &o.k_bend;
-  if (key == "damping") return &o.damping;
-  if (key == "gravity_x") return &o.gravity.x();
-  if (key == "gravity_y") return &o.gravity.y();
-  if (key == "gravity_z") return &o.gravity.z();
-  if (key == "epsilon") return &o.epsilon;
-  if (key == "k_rep") return &o.k_rep;
-  return nullptr;
-}
-
 [[noreturn]] void fail(const b2o::Scene& scene, const std::string& what) {
   throw std::runtime_error("scene '" + std::string(scene.name ? scene.name : "?") + "': " + what);
 }
 
 }  // namespace
 
-const std::vector<std::string>& scene_param_keys() {
-  static const std::vector<std::string> keys{"dt",        "mass",      "k_struct",  "k_bend",  "damping",
-                                             "gravity_x", "gravity_y", "gravity_z", "epsilon", "k_rep"};
-  return keys;
-}
-
-Options scene_options(const b2o::Scene& scene, Options base, std::vector<std::string>* unknown) {
+BakedParams read_scene_params(const b2o::Scene& scene, Options base) {
+  BakedParams out{base, {}, {}};
   for (std::uint32_t i = 0; i < scene.param_count; ++i) {
     const std::string key = scene.params[i].key ? scene.params[i].key : "";
-    if (double* slot = option_slot(base, key))
-      *slot = scene.params[i].value;
-    else if (unknown)
-      unknown->push_back(key);
+    const OptionInfo* option = find_option(key);
+    if (!option)
+      out.unknown.push_back(key);
+    else if (std::string why = option->set(out.options, number_text(scene.params[i].value)); !why.empty())
+      out.refused.push_back({key, std::move(why)});
   }
-  return base;
+  return out;
+}
+
+Options scene_options(const b2o::Scene& scene, Options base) {
+  BakedParams p = read_scene_params(scene, base);
+  if (!p.refused.empty()) fail(scene, "PARAMS " + p.refused[0].key + " " + p.refused[0].why);
+  return p.options;
 }
 
 Model build_model(const b2o::Scene& scene, const Options& options) {

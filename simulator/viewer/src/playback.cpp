@@ -87,7 +87,7 @@ std::size_t StateRing::bytes_per_state(const Model& model) {
 
 StateRing::Plan StateRing::plan(const Model& model, double lookahead, std::size_t max_bytes, std::uint64_t substeps) {
   Plan p;
-  const double dt = model.options.dt;
+  const double dt = model.options.dt / static_cast<double>(std::max<std::uint64_t>(substeps, 1));  // a model step
   if (!(lookahead > 0.0) || !(dt > 0.0)) return p;
   const std::size_t bytes = bytes_per_state(model);
   const std::size_t fit = std::max<std::size_t>(2, max_bytes / std::max<std::size_t>(bytes, 1));

@@ -72,11 +72,19 @@ std::string no_display_hint() {
   return "";
 }
 
+// The viewer's step memory: its substeps and, without --threads auto, its thread count.
+Workspace viewer_workspace(const Model& model, const ViewerOptions& opt) {
+  Workspace ws = make_workspace(model);
+  ws.substeps = std::max(opt.substeps, 1);
+  ws.threads = opt.auto_threads ? 1 : std::max(opt.threads, 1);
+  return ws;
+}
+
 class Viewer {
  public:
   Viewer(const b2o::Scene& scene, const Model& model, const ViewerOptions& opt)
       : scene_(scene), model_(model), opt_(opt), state_(make_state(model)),
-        ws_(make_workspace(model)), clock_(model.options.dt, opt.max_work_per_frame),
+        ws_(viewer_workspace(model, opt)), clock_(model.options.dt / std::max(opt.substeps, 1), opt.max_work_per_frame),
         of_dt_{opt.substeps} {
     paused_ = opt.paused;
     if (opt.auto_threads) chooser_.emplace(step_splits(model) ? core_count() : 1);
@@ -130,7 +138,7 @@ class Viewer {
 
   // `written`: what the output holds if it stops here (said when the state blows up).
   bool advance_to(double t, const std::string& written) {
-    const double dt = model_.options.dt;
+    const double dt = model_.options.dt / ws_.substeps;
     while (state_.t < t - 0.5 * dt) {
       if (stop_asked()) return false;
       if (!timed_step().finite) {
@@ -248,7 +256,7 @@ class Viewer {
     // picture's time advanced (R sets t back; pauses do not count).
     double run_wall = 0.0, shown_advanced = 0.0, previous_shown = shown_time();
     update_title(view::StepRates{});
-    const double dt = model_.options.dt;
+    const double dt = model_.options.dt / ws_.substeps;
     const auto at_end = [&] { return opt_.seconds >= 0.0 && state_.t >= opt_.seconds - 0.5 * dt; };
     // Whether the ring has room for what the next step leaves: a state every snap_every_ model
     // steps, and the last one of a timed run (judged early, never late: keeps_state()).
@@ -498,7 +506,7 @@ class Viewer {
                                            : "";
     // --threads auto on a model that splits: the count it steps with now
     const std::string threads_now =
-        chooser_ && chooser_->cores() > 1 ? " | " + std::to_string(threads()) + (threads() == 1 ? " thread" : " threads") + " (auto)"
+        chooser_ && chooser_->cores() > 1 ? " | " + std::to_string(ws_.threads) + (ws_.threads == 1 ? " thread" : " threads") + " (auto)"
                                           : std::string();
     const std::string stats = view::stats_text(model_.scene_name, gpu_.target.width, gpu_.target.height, shown_time(),
                                                rates, status + threads_now);
@@ -636,7 +644,7 @@ class Viewer {
   // glFinish() after each frame (see the main loop): a software renderer while the steps'
   // threads take every core.
   bool finish_frames() const {
-    return software_ && threads() > 1 && threads() >= core_count();
+    return software_ && ws_.threads > 1 && ws_.threads >= core_count();
   }
 
   void render() {

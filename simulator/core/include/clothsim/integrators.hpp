@@ -1,8 +1,8 @@
-// Time integrators beyond the seed's symplectic Euler (issue 5), chosen at run time.
+// The time integrators, chosen at run time (the list: CLOTHSIM_INTEGRATORS in options.hpp).
 //
-// Every method calls the one force stage, compute_forces() of step.hpp (gravity, the damping
-// of report eq. 6, springs, penalty contact, drag); the implicit ones add the spring Jacobian.
-// step() dispatches here for every Integrator other than SymplecticEuler.
+// step() calls one of them; every method calls the one force stage, compute_forces() of
+// step.hpp (gravity, the damping of report eq. 6, springs, penalty contact, drag); the
+// implicit ones add the spring Jacobian. Each has its own file in src/.
 //
 //   explicit-euler     x += h v(t); v += h a(x(t), v(t))             order 1, energy grows
 //   symplectic-euler   the core's (report eqs. 1-7)                   order 1, symplectic
@@ -21,33 +21,10 @@
 #include <clothsim/sim.hpp>
 
 #include <memory>
-#include <optional>
-#include <span>
-#include <string>
-#include <string_view>
 
 namespace clothsim {
 
 struct Workspace;
-
-/// Every integrator, the seed's first.
-std::span<const Integrator> all_integrators();
-
-/// The command-line name, e.g. "symplectic-euler", "rk4", "fast-mass-spring".
-const char* to_string(Integrator method);
-
-/// Parses a command-line name (also "leapfrog", "rk2", "baraff-witkin", "liu");
-/// std::nullopt when unknown.
-std::optional<Integrator> parse_integrator(std::string_view name);
-
-/// "symplectic-euler, explicit-euler, ..." for error messages and --help.
-std::string integrator_names();
-
-/// Order of accuracy the theory gives (global error ~ h^order).
-int integrator_order(Integrator method);
-
-/// Force-stage evaluations per step (the implicit ones: one, plus their solves).
-int force_evaluations(Integrator method);
 
 /// Scratch of the integrators other than symplectic Euler, sized once per Model.
 /// Kept by the Workspace; the implicit solvers keep their factorization here.
@@ -69,11 +46,5 @@ struct ImplicitStats {
   int factorizations = 0;  ///< times the fast mass-spring matrix was factored so far
 };
 ImplicitStats implicit_stats(const IntegratorScratch& scratch);
-
-/// Advances state.x/state.v by model.options.dt with model.options.integrator (any method
-/// but SymplecticEuler, which step() does itself). Pinned masses keep their exact bits.
-/// Does not touch state.t/steps (step() does). Never allocates after the first call
-/// (tests/simulator/test_integrators_alloc.cpp).
-void integrate(const Model& model, State& state, Workspace& ws);
 
 }  // namespace clothsim

@@ -1,13 +1,15 @@
 // clothsim core: the contract shared by the physics, the headless runner and the viewer.
 //
 // Three kinds of thing, kept apart (after MuJoCo's mjModel / mjData):
-//   Options   - numbers a user sets (defaults from the 2016 report);
+//   Options   - numbers a user sets (the table in options.hpp; defaults from the 2016 report);
 //   Model     - built once from a scene + Options, never changed by step();
 //   State     - positions, velocities, time: the only thing step() changes.
 // A Workspace holds step()'s scratch memory so that step() never allocates.
 //
 // This header depends on Eigen only: no GL, no file formats.
 #pragma once
+
+#include <clothsim/options.hpp>
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -18,30 +20,8 @@
 
 namespace clothsim {
 
-/// Time integrators. The seed's method is the default.
-enum class Integrator : std::uint8_t {
-  SymplecticEuler,  ///< report eqs. 1-7: x += h v(t); f at x(t+h); v += h (f - gamma v)/m
-  // Added for the work-precision study (issue 5); see integrators.hpp.
-  ExplicitEuler,    ///< forward Euler: order 1, energy grows
-  Verlet,           ///< leapfrog (drift-kick-drift): order 2, symplectic
-  Midpoint,         ///< explicit midpoint (RK2): order 2
-  RK4,              ///< classic Runge-Kutta: order 4
-  ImplicitEuler,    ///< Baraff & Witkin 1998: one Newton step, CG
-  FastMassSpring,   ///< Liu et al. 2013: local/global with a prefactored Cholesky
-  XPBD,             ///< Macklin et al. 2016/2019: compliant springs, one iteration per (small) step
-};
-
-struct Options {
-  double dt = 0.01;           ///< s, step size (report: 0.01)
-  double mass = 0.1;          ///< kg per mass point (report: 0.1)
-  double k_struct = 400.0;    ///< N/m, structural springs (report: 400)
-  double k_bend = 50.0;       ///< N/m, bend springs (report: 1:8 of structural)
-  double damping = 0.1;       ///< N s/m, gamma of report eq. 6
-  Eigen::Vector3d gravity{0.0, -9.81, 0.0};  ///< m/s^2, Blender's OBJ export is Y up
-  double epsilon = 0.1;       ///< m, collision band of report eq. 12
-  double k_rep = 600.0;       ///< N/m, penalty constant: stops 7.7 m/s, stable with the springs at dt 0.01 (docs/physics.md)
-  Integrator integrator = Integrator::SymplecticEuler;
-};
+/// Gravity as a vector, m/s^2.
+inline Eigen::Vector3d gravity(const Options& o) { return {o.gravity_x, o.gravity_y, o.gravity_z}; }
 
 /// A contiguous run of masses and springs that came from one cloth object of the scene.
 struct ClothRange {
@@ -116,7 +96,8 @@ struct StepStatus {
 /// The state at t = 0: x = x0, v = 0.
 State make_state(const Model& model);
 
-/// Advances `state` by model.options.dt with model.options.integrator. Never allocates.
+/// Advances `state` by one step of h = model.options.dt / ws.substeps with
+/// model.options.integrator, on ws.threads threads. Never allocates.
 StepStatus step(const Model& model, State& state, Workspace& ws);
 
 }  // namespace clothsim

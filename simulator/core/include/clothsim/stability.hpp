@@ -1,4 +1,4 @@
-// The stability guard (issue 5): how large a step each integrator can take on a Model, how
+// The stability guard: how large a step each integrator can take on a Model, how
 // many substeps a requested dt needs, and how fast a cloth can hit a collider before the
 // penalty contact lets it through. See docs/stability.md.
 //

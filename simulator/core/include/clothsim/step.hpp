@@ -9,6 +9,12 @@
 
 namespace clothsim {
 
+namespace detail {
+struct CollisionScratch;
+struct SpringSplit;
+}  // namespace detail
+struct IntegratorScratch;
+
 /// Per-mass spring lists (CSR) for the gathered spring forces: the springs of mass i are
 /// entry[start[i] .. start[i+1]), in increasing spring index, so every mass sums its springs
 /// in the scatter loop's order whatever the thread count. An entry is the spring index, with
@@ -37,8 +43,11 @@ struct SpringAdjacency {
   }
 };
 
-/// Scratch memory for step(), sized once from a Model so that step() never allocates.
+/// Scratch memory for step(), sized once from a Model so that step() never allocates, and
+/// what a run decides for itself (the Model holds what the user asked for).
 struct Workspace {
+  int substeps = 1;                          ///< steps per dt: step() takes h = model.options.dt / substeps
+  int threads = 1;                           ///< threads of the force and update loops (same bits for any count)
   Eigen::Matrix3Xd f;                        ///< (3 x n) total force at the current stage, N
   Eigen::Matrix3Xd pinned_x;                 ///< (3 x p) positions of the pinned masses, saved per step
   std::vector<std::uint32_t> pinned_index;   ///< (p) the pinned masses
@@ -47,21 +56,21 @@ struct Workspace {
   /// The collision query's memory between steps (ContactCache certificates, per thread chunk),
   /// made by make_workspace when the model has colliders. Copies of the Workspace share it
   /// (results stay exact); do not step two copies at the same time.
-  std::shared_ptr<struct CollisionScratch> collision;
+  std::shared_ptr<detail::CollisionScratch> collision;
   Drag drag;                                 ///< the drag of the state being stepped
   double last_penetration = 0.0;             ///< m, deepest point behind a collider in the last force stage
   std::uint32_t last_contacts = 0;           ///< points inside a collider band in the last force stage
-  /// The gathered spring forces (performance, issue 6); shared by copies of the Workspace.
+  /// The gathered spring forces; shared by copies of the Workspace.
   /// Without it (a Workspace not made by make_workspace) the forces use the scatter loop.
   std::shared_ptr<const SpringAdjacency> adjacency;
   /// More threads: which springs and masses each thread takes (made once per thread count, so
   /// that each thread works block by block as one thread does). Shared by copies.
-  std::shared_ptr<struct SpringSplit> spring_split;
+  std::shared_ptr<detail::SpringSplit> spring_split;
   /// (4 s + 4) each spring's force on its a end, c dx with c = k (l - |dx|) / |dx| (0 if |dx| = 0),
   /// as x, y, z, 0 in 32-byte blocks from the first 32-byte aligned element.
   std::vector<double> spring_f;
   /// Scratch of the other integrators (integrators.hpp); shared by copies of the Workspace.
-  std::shared_ptr<struct IntegratorScratch> integrator_scratch;
+  std::shared_ptr<IntegratorScratch> integrator_scratch;
 };
 
 Workspace make_workspace(const Model& model);
@@ -70,17 +79,19 @@ Workspace make_workspace(const Model& model);
 /// damping term of eq. 6, so that a = f / m):
 ///   f = m g - gamma v + springs (eq. 4) + penalty (eq. 12, every collider) + drag.
 /// Writes f (3 x n, already sized); records the deepest penetration in ws. Never allocates.
-/// The user's drag is read from ws.drag (step() copies State::drag there).
+/// The user's drag is read from ws.drag (step() copies State::drag there). Every integrator
+/// calls it; it calls the contact stage (add_contact_forces).
 void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
                     Eigen::Matrix3Xd& f, Workspace& ws);
+
+/// The penalty forces of every collider on the masses at x (report eq. 12), added to f, on
+/// ws.threads threads for large models; records the deepest penetration and the contacts in ws.
+void add_contact_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f, Workspace& ws);
 
 /// Pinned masses around an integrator's update: save_pins() keeps their positions in ws,
 /// restore_pins() puts the exact bits back and zeroes their velocities.
 void save_pins(const State& s, Workspace& ws);
 void restore_pins(State& s, const Workspace& ws);
-
-/// One step of report eqs. 1-7 (no time bookkeeping; step() does that).
-void step_symplectic_euler(const Model& model, State& state, Workspace& ws);
 
 /// Adds the spring forces of report eq. 4 to f: the plain scatter loop over springs (the
 /// reference the gathered version is tested and benchmarked against).
@@ -91,13 +102,10 @@ void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Mat
 void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
                        Workspace& ws);
 
-/// Threads used by step()'s force and update loops (OpenMP; 1 without it). Results are
-/// bit-identical for every count. Default 1; n <= 0 means all the machine's cores. (The
-/// clothsim program's --threads auto switches while it runs: thread_choice.hpp.)
-void set_threads(int n);
-int threads();
+/// The thread count for "N threads" as a user gives it: n itself, or all the cores for n <= 0.
+int resolve_threads(int n);
 /// Whether step() splits any of its loops between threads for this model; when it does not
-/// (a small model), it runs on one thread whatever set_threads() said.
+/// (a small model), it runs on one thread whatever ws.threads says.
 bool step_splits(const Model& model);
 /// The cores this process may run on (OpenMP's count, capped by OMP_NUM_THREADS when that is
 /// lower; 1 without OpenMP): the most --threads auto uses.
@@ -113,8 +121,5 @@ double gershgorin_omega_max(const Model& model);
 
 /// A 64-bit FNV-1a hash of the bytes of x and v (for determinism tests).
 std::uint64_t state_hash(const State& state);
-
-/// Empty when the options are usable, else a one-line reason naming the option.
-std::string validate_options(const Options& options);
 
 }  // namespace clothsim

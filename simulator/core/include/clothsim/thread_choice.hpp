@@ -25,7 +25,7 @@ namespace clothsim {
 /// 1.4-2.0 ms per step against 0.79 on one, while their median step looked faster). A trial
 /// spans several of the scheduler's time slices for that reason.
 ///
-/// Use: chosen_step(), or before each step set_threads(chooser.threads()) and after it
+/// Use: chosen_step(), or before each step ws.threads = chooser.threads() and after it
 /// chooser.step_took(seconds).
 class ThreadChooser {
  public:

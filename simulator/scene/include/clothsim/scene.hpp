@@ -10,17 +10,21 @@ namespace b2o { struct Scene; }
 
 namespace clothsim {
 
-/// The Scene::params keys a scene may bake to override Options (the command line
-/// overrides both): dt, mass, k_struct, k_bend, damping, gravity_x, gravity_y, gravity_z,
-/// epsilon, k_rep. blender2ogl_add_scene() accepts exactly these as PARAMS keys (the list
-/// BLENDER2OGL_PARAM_KEYS in cmake/Blender2oglBake.cmake; SceneAdapter.ParamKeysAreTheCMakeList
-/// checks the two agree): add a key in both places.
-const std::vector<std::string>& scene_param_keys();
+/// A scene's baked PARAMS (blender2ogl_add_scene's PARAMS), read against the options table
+/// (options.hpp): each key names an option.
+struct BakedParams {
+  Options options;                    ///< `base` with every accepted value applied
+  std::vector<std::string> unknown;   ///< keys that are no option (ignored)
+  struct Refused {
+    std::string key, why;             ///< why: worded to follow the key ("must be ... (got -1)")
+  };
+  std::vector<Refused> refused;       ///< values the option refuses (not applied)
+};
+BakedParams read_scene_params(const b2o::Scene& scene, Options base = {});
 
-/// `base` with the scene's baked params applied. Keys that are not option names are
-/// returned in `unknown` (when given) and otherwise ignored.
-Options scene_options(const b2o::Scene& scene, Options base = {},
-                      std::vector<std::string>* unknown = nullptr);
+/// `base` with the scene's baked PARAMS applied; unknown keys are ignored. Throws
+/// std::runtime_error naming the scene and the key for a value the option refuses.
+Options scene_options(const b2o::Scene& scene, Options base = {});
 
 /// Every cloth object becomes masses + springs (+ pins); every other object with triangles
 /// becomes a collider. Rest lengths are recomputed in double from the rest positions.

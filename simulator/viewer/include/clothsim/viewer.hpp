@@ -19,7 +19,6 @@ struct ViewerOptions {
   int fps = 30;
   double seconds = -1.0;        ///< simulated seconds for screenshot/frames; in the window: close at
                                 ///< this simulated time (real-time pace); < 0: run until closed
-  // --- additions of the viewer (issue 4) ---
   bool flat_cloth = false;      ///< test mode: cloth drawn unlit in kFlatClothRgb, no texture
   bool hide_cloth = false;      ///< test mode: draw the colliders only
   bool show_springs = false;    ///< start with springs shown (key S toggles)
@@ -30,13 +29,14 @@ struct ViewerOptions {
   /// A pause, a single step or a grab takes back the state on screen.
   double lookahead = 3.0;
   double max_work_per_frame = 0.1;  ///< s of stepping per frame at most; beyond it run slower than real time
-  /// The model's dt is the user's step divided into this many substeps (the stability guard):
-  /// every count and rate the viewer shows (title, overlay, stderr, closing line) is of steps of
-  /// substeps x dt, as the headless run's, and N takes one such step.
+  /// Each step of the model's dt is taken in this many steps of dt / substeps (the stability
+  /// guard): every count and rate the viewer shows (title, overlay, stderr, closing line) is
+  /// of steps of dt, as the headless run's, and N takes one such step.
   int substeps = 1;
   /// --threads auto: step with one thread or all cores, whichever a ThreadChooser measures
-  /// faster (thread_choice.hpp); false: the count set_threads() set.
+  /// faster (thread_choice.hpp); false: `threads` threads.
   bool auto_threads = false;
+  int threads = 1;
   /// Set (non-zero) by the caller's SIGINT/SIGTERM handler: the viewer stops at the next frame
   /// or step, says so, and run_viewer() returns 130. Null: the signals end the process.
   const volatile std::sig_atomic_t* interrupted = nullptr;

@@ -1,0 +1,119 @@
+// The simulator's options: one table, from which the Options struct, the command line, its
+// help, the validation, the JSON report, a scene's baked PARAMS and the build-time check of
+// those PARAMS are all derived (after MuJoCo's mjxmacro.h). Adding an option is one row here
+// plus the code that uses it (docs/architecture.md shows the diff of one).
+//
+// This header depends on the standard library only (the build-time PARAMS check compiles it
+// alone).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+// REAL(name, default, range, unit, seed alias, help)
+//   name   the field, the PARAMS key and the report key; the flag is --name with '-' for '_'
+//   range  Positive (> 0), NonNegative (>= 0) or Finite
+//   seed alias: the 2016 program's single-dash option ("" when it had none)
+// CHOICE(name, type, default, seed alias, help): one of the names of the type's own list.
+#define CLOTHSIM_OPTIONS(REAL, CHOICE)                                                               \
+  REAL(dt, 0.01, Positive, "s", "step", "Step size h")                                               \
+  REAL(mass, 0.1, Positive, "kg", "mass", "Mass per point")                                          \
+  REAL(k_struct, 400.0, NonNegative, "N/m", "stiff", "Structural spring stiffness")                  \
+  REAL(k_bend, 50.0, NonNegative, "N/m", "wstiff", "Bend spring stiffness")                          \
+  REAL(damping, 0.1, NonNegative, "N s/m", "damp", "Damping gamma of report eq. 6")                  \
+  REAL(gravity_x, 0.0, Finite, "m/s^2", "", "Gravity, x component")                                  \
+  REAL(gravity_y, -9.81, Finite, "m/s^2", "", "Gravity, y component (Blender's OBJ export is Y up)") \
+  REAL(gravity_z, 0.0, Finite, "m/s^2", "", "Gravity, z component")                                  \
+  REAL(epsilon, 0.1, Positive, "m", "", "Collision band epsilon of report eq. 12")                   \
+  REAL(k_rep, 600.0, NonNegative, "N/m", "", "Penalty stiffness k_rep of report eq. 12")             \
+  CHOICE(integrator, Integrator, SymplecticEuler, "", "Time integrator")
+
+// The time integrators, the seed's first: I(enumerator, name, order, force evaluations per
+// step, what it is). integrators.hpp says more about each.
+#define CLOTHSIM_INTEGRATORS(I)                                                                   \
+  I(SymplecticEuler, "symplectic-euler", 1, 1, "report eqs. 1-7: x += h v; v += h f(x)/m")        \
+  I(ExplicitEuler, "explicit-euler", 1, 1, "forward Euler: energy grows")                         \
+  I(Verlet, "verlet", 2, 1, "leapfrog (drift-kick-drift): symplectic")                            \
+  I(Midpoint, "midpoint", 2, 2, "explicit midpoint (RK2)")                                        \
+  I(RK4, "rk4", 4, 4, "classic Runge-Kutta")                                                      \
+  I(ImplicitEuler, "implicit-euler", 1, 1, "Baraff & Witkin 1998: one Newton step, CG")           \
+  I(FastMassSpring, "fast-mass-spring", 1, 1, "Liu et al. 2013: local/global, prefactored solve") \
+  I(XPBD, "xpbd", 1, 1, "Macklin et al. 2016/2019: compliant springs, one pass per step")
+
+namespace clothsim {
+
+enum class Integrator : std::uint8_t {
+#define CLOTHSIM_ENUMERATOR(e, ...) e,
+  CLOTHSIM_INTEGRATORS(CLOTHSIM_ENUMERATOR)
+#undef CLOTHSIM_ENUMERATOR
+};
+
+/// Numbers a user sets; the defaults are the 2016 report's. Fields: the table above.
+struct Options {
+#define CLOTHSIM_REAL_FIELD(name, def, ...) double name = def;
+#define CLOTHSIM_CHOICE_FIELD(name, type, def, ...) type name = type::def;
+  CLOTHSIM_OPTIONS(CLOTHSIM_REAL_FIELD, CLOTHSIM_CHOICE_FIELD)
+#undef CLOTHSIM_REAL_FIELD
+#undef CLOTHSIM_CHOICE_FIELD
+};
+
+/// The values a REAL option may take.
+enum class Range : std::uint8_t { Positive, NonNegative, Finite };
+
+/// One row of the table, as the generic code (command line, help, report, PARAMS) reads it.
+struct OptionInfo {
+  std::string_view name;        ///< field, PARAMS key and report key
+  std::string_view unit;        ///< "" for a choice
+  std::string_view seed_alias;  ///< the 2016 program's option without its '-', or ""
+  std::string_view help;
+  bool is_choice = false;
+  Range range = Range::Finite;                ///< REAL options only
+  std::span<const std::string_view> choices;  ///< CHOICE options only: the names
+  /// Sets the option from text (a decimal number, or one of the choices); empty, or a
+  /// one-line reason worded to follow the option's name or flag ("must be a finite number > 0
+  /// (got -1)", "takes a decimal number, got 'x'", "unknown 'y' (known: ...)").
+  std::string (*set)(Options&, std::string_view text) = nullptr;
+  /// The value as text (a number with 17 significant digits at most, as short as reads back).
+  std::string (*text)(const Options&) = nullptr;
+  /// The value of a REAL option (NaN for a choice).
+  double (*value)(const Options&) = nullptr;
+
+  /// The command-line flag: "--" + name with '_' as '-'.
+  std::string flag() const;
+};
+
+/// Every option, in the table's order.
+std::span<const OptionInfo> option_table();
+
+/// The row named `name` (a PARAMS key, e.g. "k_struct"), or nullptr.
+const OptionInfo* find_option(std::string_view name);
+
+/// Empty when every option is in its range, else a one-line reason naming the first that is not.
+std::string validate_options(const Options& options);
+
+/// The text of a number as the report and help show it: the shortest that reads back exactly.
+std::string number_text(double value);
+
+/// Reads a decimal number: all of `text` but spaces around it, no hexadecimal, "inf" or "nan",
+/// nothing out of a double's range. Empty, or why not ("takes a decimal number, got 'x'"),
+/// worded to follow an option's name.
+std::string parse_number(std::string_view text, double& value);
+
+/// The time integrators, in the table's order.
+std::span<const Integrator> all_integrators();
+/// The command-line name, e.g. "symplectic-euler".
+const char* to_string(Integrator method);
+/// A command-line name (also "leapfrog", "velocity-verlet", "rk2", "baraff-witkin", "liu");
+/// std::nullopt when unknown.
+std::optional<Integrator> parse_integrator(std::string_view name);
+/// "symplectic-euler, explicit-euler, ..." for error messages and --help.
+std::string integrator_names();
+/// Order of accuracy the theory gives (global error ~ h^order).
+int integrator_order(Integrator method);
+/// Force-stage evaluations per step (the implicit ones: one, plus their solves).
+int force_evaluations(Integrator method);
+
+}  // namespace clothsim

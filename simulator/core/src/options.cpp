@@ -1,0 +1,182 @@
+// The options table (options.hpp) turned into rows the generic code reads.
+#include <clothsim/options.hpp>
+
+#include <array>
+#include <iterator>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <optional>
+#include <string>
+
+namespace clothsim {
+
+namespace {
+
+constexpr std::string_view kIntegratorNames[] = {
+#define CLOTHSIM_NAME(e, name, ...) name,
+    CLOTHSIM_INTEGRATORS(CLOTHSIM_NAME)
+#undef CLOTHSIM_NAME
+};
+constexpr Integrator kIntegrators[] = {
+#define CLOTHSIM_VALUE(e, ...) Integrator::e,
+    CLOTHSIM_INTEGRATORS(CLOTHSIM_VALUE)
+#undef CLOTHSIM_VALUE
+};
+
+// The names of a choice type and its parser.
+template <class T>
+struct Choices;
+template <>
+struct Choices<Integrator> {
+  static std::span<const std::string_view> names() { return kIntegratorNames; }
+  static std::optional<Integrator> parse(std::string_view text) { return parse_integrator(text); }
+  static std::string_view label(Integrator v) { return to_string(v); }
+};
+
+std::string joined(std::span<const std::string_view> names) {
+  std::string out;
+  for (std::string_view n : names) (out.empty() ? out : out += ", ") += n;
+  return out;
+}
+
+std::string range_words(Range r) {
+  switch (r) {
+    case Range::Positive: return "a finite number > 0";
+    case Range::NonNegative: return "a finite number >= 0";
+    case Range::Finite: return "a finite number";
+  }
+  return "a number";
+}
+
+bool in_range(double v, Range r) {
+  if (!std::isfinite(v)) return false;
+  return r == Range::Finite || (r == Range::Positive ? v > 0.0 : v >= 0.0);
+}
+
+// A value as the user wrote it, cut for an error message.
+std::string shown(std::string_view text) {
+  return text.size() > 40 ? std::string(text.substr(0, 40)) + "..." : std::string(text);
+}
+
+}  // namespace
+
+std::string parse_number(std::string_view text, double& v) {
+  const auto first = text.find_first_not_of(" \t"), last = text.find_last_not_of(" \t");
+  if (first == std::string_view::npos) return "needs a number, got an empty value";
+  const std::string s(text.substr(first, last + 1 - first));
+  char* end = nullptr;
+  errno = 0;
+  v = std::strtod(s.c_str(), &end);
+  if (s.find_first_not_of("0123456789+-.eE") != std::string::npos || end != s.c_str() + s.size())
+    return "takes a decimal number, got '" + shown(text) + "'";
+  // overflow (+-HUGE_VAL), or a number that is not 0 read as 0 (a subnormal is a double)
+  if (errno == ERANGE && std::abs(v) > 1.0) return "is out of a double's range (got " + shown(s) + ")";
+  if (errno == ERANGE && v == 0.0) return "is too small for a double (got " + shown(s) + "; write 0)";
+  return {};
+}
+
+namespace {
+
+template <double Options::*Field, Range R>
+std::string set_real(Options& o, std::string_view text) {
+  double v = 0.0;
+  if (std::string why = parse_number(text, v); !why.empty()) return why;
+  if (!in_range(v, R)) return "must be " + range_words(R) + " (got " + shown(text) + ")";
+  o.*Field = v;
+  return {};
+}
+
+template <class T, T Options::*Field>
+std::string set_choice(Options& o, std::string_view text) {
+  if (const auto v = Choices<T>::parse(text)) {
+    o.*Field = *v;
+    return {};
+  }
+  return "unknown '" + shown(text) + "' (known: " + joined(Choices<T>::names()) + ")";
+}
+
+const std::array kTable = {
+#define CLOTHSIM_REAL_ROW(field, def, range, unit, alias, help)                                      \
+  OptionInfo{#field, unit, alias, help, false, Range::range, {},                                       \
+             [](Options& o, std::string_view t) { return set_real<&Options::field, Range::range>(o, t); }, \
+             [](const Options& o) { return number_text(o.field); }, [](const Options& o) { return o.field; }},
+#define CLOTHSIM_CHOICE_ROW(field, type, def, alias, help)                                           \
+  OptionInfo{#field, "", alias, help, true, Range::Finite, Choices<type>::names(),                     \
+             [](Options& o, std::string_view t) { return set_choice<type, &Options::field>(o, t); }, \
+             [](const Options& o) { return std::string(Choices<type>::label(o.field)); },              \
+             [](const Options&) { return std::nan(""); }},
+    CLOTHSIM_OPTIONS(CLOTHSIM_REAL_ROW, CLOTHSIM_CHOICE_ROW)
+#undef CLOTHSIM_REAL_ROW
+#undef CLOTHSIM_CHOICE_ROW
+};
+
+}  // namespace
+
+std::string OptionInfo::flag() const {
+  std::string f = "--" + std::string(name);
+  for (char& c : f)
+    if (c == '_') c = '-';
+  return f;
+}
+
+std::span<const OptionInfo> option_table() { return kTable; }
+
+const OptionInfo* find_option(std::string_view name) {
+  for (const OptionInfo& o : kTable)
+    if (o.name == name) return &o;
+  return nullptr;
+}
+
+std::string validate_options(const Options& options) {
+  for (const OptionInfo& o : kTable)
+    if (!o.is_choice && !in_range(o.value(options), o.range))
+      return std::string(o.name) + " must be " + range_words(o.range) + " (got " + number_text(o.value(options)) + ")";
+  return {};
+}
+
+std::string number_text(double value) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, value);
+  return std::string(buf, r.ptr);
+}
+
+std::span<const Integrator> all_integrators() { return kIntegrators; }
+
+const char* to_string(Integrator method) {
+  const auto i = static_cast<std::size_t>(method);
+  return i < std::size(kIntegratorNames) ? kIntegratorNames[i].data() : "unknown";
+}
+
+std::optional<Integrator> parse_integrator(std::string_view name) {
+  for (std::size_t i = 0; i < std::size(kIntegratorNames); ++i)
+    if (name == kIntegratorNames[i]) return kIntegrators[i];
+  if (name == "leapfrog" || name == "velocity-verlet") return Integrator::Verlet;
+  if (name == "rk2") return Integrator::Midpoint;
+  if (name == "baraff-witkin") return Integrator::ImplicitEuler;
+  if (name == "liu") return Integrator::FastMassSpring;
+  return std::nullopt;
+}
+
+std::string integrator_names() { return joined(kIntegratorNames); }
+
+int integrator_order(Integrator method) {
+  constexpr int order[] = {
+#define CLOTHSIM_ORDER(e, name, ord, ...) ord,
+      CLOTHSIM_INTEGRATORS(CLOTHSIM_ORDER)
+#undef CLOTHSIM_ORDER
+  };
+  return order[static_cast<std::size_t>(method)];
+}
+
+int force_evaluations(Integrator method) {
+  constexpr int forces[] = {
+#define CLOTHSIM_FORCES(e, name, ord, f, ...) f,
+      CLOTHSIM_INTEGRATORS(CLOTHSIM_FORCES)
+#undef CLOTHSIM_FORCES
+  };
+  return forces[static_cast<std::size_t>(method)];
+}
+
+}  // namespace clothsim

@@ -1,0 +1,60 @@
+// What the core's loops share: thread teams, the run-time AVX2 choice, finiteness tests.
+#pragma once
+
+#include <clothsim/step.hpp>
+
+#include <cstddef>
+#include <cstdint>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define CLOTHSIM_AVX2 1
+#endif
+
+namespace clothsim::detail {
+
+#ifdef _OPENMP
+inline std::size_t thread_num() { return static_cast<std::size_t>(omp_get_thread_num()); }
+inline std::size_t team_size() { return static_cast<std::size_t>(omp_get_num_threads()); }
+inline double wtime() { return omp_get_wtime(); }
+#else
+inline std::size_t thread_num() { return 0; }
+inline std::size_t team_size() { return 1; }
+inline double wtime() { return 0.0; }
+#endif
+
+/// Below this many items a parallel region costs more than it saves.
+inline constexpr std::size_t kTeamWork = 4096;
+
+/// Threads for a loop of `work` items on a Workspace that steps on ws.threads threads.
+inline int team(const Workspace& ws, std::size_t work) { return work >= kTeamWork ? ws.threads : 1; }
+
+/// The collision loop's work for team(): a query costs ~10 spring terms, so half a mass's.
+inline std::size_t collision_work(std::size_t masses, std::size_t objects) { return masses * objects / 2; }
+
+/// Whether the AVX2 paths run: the CPU has AVX2 and CLOTHSIM_NO_AVX2 is not set.
+bool use_avx2();
+
+/// Whether p[0 .. n) are all finite (integer tests: the same answer on any path).
+bool finite_span(const double* p, std::size_t n);
+/// The same, without AVX2.
+bool finite_span_plain(const double* p, std::size_t n);
+/// Whether x and v are all finite, on ws.threads threads for big states.
+bool all_finite(const State& s, const Workspace& ws);
+
+/// A double is NaN or infinite when its exponent bits are all ones: (bits & kExpBits) +
+/// kExpOne then carries into bit 63.
+inline constexpr std::uint64_t kExpBits = 0x7ff0000000000000ull, kExpOne = std::uint64_t{1} << 52;
+
+#ifdef CLOTHSIM_AVX2
+/// finite_span()'s test on 4 values: bit 63 of a lane is set when its value is NaN or infinite.
+__attribute__((target("avx2"), always_inline)) inline __m256i nonfinite_lanes(__m256d v) {
+  return _mm256_add_epi64(_mm256_and_si256(_mm256_castpd_si256(v), _mm256_set1_epi64x(static_cast<long long>(kExpBits))),
+                          _mm256_set1_epi64x(static_cast<long long>(kExpOne)));
+}
+#endif
+
+}  // namespace clothsim::detail

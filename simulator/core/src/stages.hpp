@@ -1,0 +1,39 @@
+// The core's stages, in the order a step runs them: step() calls one integrator; every
+// integrator calls the force stage (compute_forces), which calls the internal forces and the
+// contact stage (add_contact_forces, step.hpp). Private to the core.
+#pragma once
+
+#include <clothsim/step.hpp>
+
+#include <memory>
+
+namespace clothsim::detail {
+
+// --- integrators: advance x, v by h (pins, time and the finiteness check are step()'s) ------
+
+/// Report eqs. 1-7 (the seed's method, threaded and in AVX2); tells whether the new state is
+/// finite when it checked that on the way (checked = true).
+void symplectic_euler(const Model& model, State& state, Workspace& ws, double h, bool& checked, bool& finite);
+void explicit_euler(const Model& model, State& state, Workspace& ws, double h);
+void verlet(const Model& model, State& state, Workspace& ws, double h);
+void midpoint(const Model& model, State& state, Workspace& ws, double h);
+void rk4(const Model& model, State& state, Workspace& ws, double h);
+void implicit_euler(const Model& model, State& state, Workspace& ws, double h);
+void fast_mass_spring(const Model& model, State& state, Workspace& ws, double h);
+void xpbd(const Model& model, State& state, Workspace& ws, double h);
+
+/// a = f / m, row-wise (pinned masses have inv_mass 0).
+inline auto accel(const Model& model, const Eigen::Matrix3Xd& f) {
+  return (f.array().rowwise() * model.inv_mass.transpose().array()).matrix();
+}
+
+// --- forces --------------------------------------------------------------------------------
+
+/// f = m g - gamma v + springs (report eqs. 2-6), through the gathered passes when ws has them.
+void internal_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f,
+                     Workspace& ws);
+
+/// The contact stage's memory between steps (made by make_workspace for a model with colliders).
+std::shared_ptr<struct CollisionScratch> make_collision_scratch(const Model& model);
+
+}  // namespace clothsim::detail
