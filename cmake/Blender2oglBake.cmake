@@ -14,135 +14,40 @@
 # Inside the clothsim tree the converter is the blender2ogl target; an installed package
 # provides the imported target blender2ogl::blender2ogl (find_package(blender2ogl)).
 #
-# PARAMS keys must be among BLENDER2OGL_PARAM_KEYS (below), else the configure stops naming
-# the scene and the key ("did you mean k_struct?" for k-struct=...).
+# PARAMS entries are checked by the program that reads the scene (BLENDER2OGL_PARAMS_CHECK,
+# below): in the clothsim tree and package, an unknown key or a value the simulator would
+# refuse stops the configure naming the scene and the key ("did you mean k_struct?").
 include_guard(GLOBAL)
 cmake_policy(PUSH)
 cmake_policy(VERSION 3.25)  # CMP0116: depfile paths made relative for Ninja
 
-# The keys PARAMS may bake: the simulator options its scene adapter reads from Scene::params
-# (clothsim::scene_param_keys(), simulator/scene/src/scene.cpp). This list is the one the
-# build checks; the test SceneAdapter.ParamKeysAreTheCMakeList fails when the two differ.
-# Units: dt s, mass kg per mass, k_struct/k_bend N/m, damping N s/m, gravity_x/y/z m/s^2,
-# epsilon m (collision shell), k_rep N/m (collision penalty).
-set_property(GLOBAL PROPERTY BLENDER2OGL_PARAM_KEYS
-  dt mass k_struct k_bend damping gravity_x gravity_y gravity_z epsilon k_rep)
-
-# Sets ${out} to "overflow", "underflow" or "" for a decimal number (as the PARAMS check
-# matched it): whether strtod() would give ERANGE, as blender2ogl --param refuses. By the
-# decimal exponent of the first significant digit and its first 17 digits (DBL_MAX is
-# 1.7976931348623157e308, DBL_MIN 2.2250738585072014e-308).
-function(_blender2ogl_double_range value out)
-  string(REGEX MATCH "^[+-]?([0-9]*)[.]?([0-9]*)([eE]([+-]?[0-9]+))?$" _ "${value}")
-  set(int "${CMAKE_MATCH_1}")
-  set(digits "${CMAKE_MATCH_1}${CMAKE_MATCH_2}")
-  set(exp "${CMAKE_MATCH_4}")
-  string(REGEX REPLACE "^[+]" "" exp "${exp}")
-  if(exp MATCHES "^(-?)0*([0-9]+)$")  # (REGEX REPLACE would strip zeros again after each match)
-    set(exp "${CMAKE_MATCH_1}${CMAKE_MATCH_2}")
-  endif()
-  string(REGEX REPLACE "^0+" "" significant "${digits}")
-  string(LENGTH "${digits}" n)
-  string(LENGTH "${significant}" sn)
-  math(EXPR z "${n} - ${sn}")  # leading zeros
-  set(result "")
-  if(z LESS n)  # not zero
-    string(LENGTH "${exp}" exp_len)
-    if(exp_len GREATER 7)  # (beyond what the digits can move)
-      if(exp MATCHES "^-")
-        set(result "underflow")
-      else()
-        set(result "overflow")
-      endif()
-    else()
-      if(exp STREQUAL "")
-        set(exp 0)
-      endif()
-      string(LENGTH "${int}" int_len)
-      math(EXPR e "${int_len} - 1 - ${z} + ${exp}")
-      string(SUBSTRING "${digits}" ${z} 17 lead)
-      string(LENGTH "${lead}" lead_len)
-      while(lead_len LESS 17)
-        string(APPEND lead "0")
-        math(EXPR lead_len "${lead_len} + 1")
-      endwhile()
-      if(e GREATER 308 OR (e EQUAL 308 AND lead STRGREATER "17976931348623157"))
-        set(result "overflow")
-      elseif(e LESS -308 OR (e EQUAL -308 AND lead STRLESS "22250738585072014"))
-        set(result "underflow")
-      endif()
-    endif()
-  endif()
-  set(${out} "${result}" PARENT_SCOPE)
-endfunction()
-
-# Stops the configure when a PARAMS entry is not KEY=VALUE with a known KEY.
+# PARAMS are KEY=VALUE entries baked as text into Scene::params for the program that reads
+# the scene. The converter knows no keys: a consumer that does sets the global property
+# BLENDER2OGL_PARAMS_CHECK to a command that takes the entries as arguments and exits non-zero
+# (saying why on stderr) when one is wrong; the clothsim package sets its checker there.
 function(_blender2ogl_check_params scene)
-  get_property(valid GLOBAL PROPERTY BLENDER2OGL_PARAM_KEYS)
-  list(JOIN valid ", " shown)
   set(problems "")
   set(seen "")
   foreach(p IN LISTS ARGN)
-    if(NOT p MATCHES "^([^=]+)=(.*)$")
-      string(APPEND problems "\n  '${p}': expected KEY=VALUE (e.g. dt=0.002)")
+    if(NOT p MATCHES "^([A-Za-z_][A-Za-z0-9_-]*)=([^ \t\"'\\]+)$")
+      string(APPEND problems "\n  '${p}': expected KEY=VALUE (e.g. dt=0.002; no spaces or quotes in the value)")
       continue()
     endif()
-    set(key "${CMAKE_MATCH_1}")
-    set(value "${CMAKE_MATCH_2}")
-    if(key IN_LIST seen)
-      string(APPEND problems "\n  '${p}': ${key} is given twice")
-      continue()
+    if(CMAKE_MATCH_1 IN_LIST seen)
+      string(APPEND problems "\n  '${p}': ${CMAKE_MATCH_1} is given twice")
     endif()
-    list(APPEND seen "${key}")
-    if(key IN_LIST valid)
-      # The value: a number, in the range the simulator accepts (clothsim::validate_options():
-      # dt, mass, epsilon > 0; stiffnesses, damping, k_rep >= 0), so that a baked value the
-      # program would refuse at every start stops the configure instead.
-      set(range "")
-      if(value MATCHES "^[+-]?([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][+-]?[0-9]+)?$")
-        _blender2ogl_double_range("${value}" range)
-      endif()
-      if(NOT value MATCHES "^[+-]?([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][+-]?[0-9]+)?$")
-        string(APPEND problems "\n  '${p}': the value is not a number")
-      elseif(range STREQUAL "overflow")
-        string(APPEND problems "\n  '${p}': the value is out of a double's range (above 1.8e308)")
-      elseif(range STREQUAL "underflow")
-        string(APPEND problems "\n  '${p}': the value is too small for a double (below 2.2e-308; write 0)")
-      elseif(key MATCHES "^(dt|mass|epsilon)$" AND NOT value GREATER 0)
-        string(APPEND problems "\n  '${p}': ${key} must be > 0")
-      elseif(key MATCHES "^(k_struct|k_bend|damping|k_rep)$" AND value LESS 0)
-        string(APPEND problems "\n  '${p}': ${key} must be >= 0")
-      endif()
-      continue()
-    endif()
-    # a hint: the underscore spelling (the command line's --k-struct is PARAMS k_struct), a
-    # case slip, a key cut short (mas -> mass, gravity -> gravity_x/y/z) or too long
-    string(REPLACE "-" "_" fixed "${key}")
-    string(TOLOWER "${fixed}" fixed)
-    set(hints "")
-    if(fixed IN_LIST valid)
-      set(hints "${fixed}")
-    else()
-      string(LENGTH "${fixed}" n)
-      foreach(k IN LISTS valid)
-        string(LENGTH "${k}" kn)
-        string(FIND "${k}" "${fixed}" at)
-        string(FIND "${fixed}" "${k}" at2)
-        if((n GREATER 1 AND at EQUAL 0) OR (kn GREATER 1 AND at2 EQUAL 0))
-          list(APPEND hints "${k}")
-        endif()
-      endforeach()
-    endif()
-    set(hint "")
-    if(hints)
-      list(JOIN hints " or " hints)
-      set(hint " (did you mean ${hints}?)")
-    endif()
-    string(APPEND problems "\n  '${key}' is not a scene parameter${hint}")
+    list(APPEND seen "${CMAKE_MATCH_1}")
   endforeach()
+  get_property(check GLOBAL PROPERTY BLENDER2OGL_PARAMS_CHECK)
+  if(NOT problems AND check AND ARGN)
+    execute_process(COMMAND ${check} ${ARGN} RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_QUIET)
+    if(NOT rc EQUAL 0)
+      string(STRIP "${err}" err)
+      string(APPEND problems "\n${err}")
+    endif()
+  endif()
   if(problems)
-    message(FATAL_ERROR "blender2ogl_add_scene(${scene}): bad PARAMS:${problems}\n"
-                        "Valid keys (underscores, as the simulator reads them): ${shown}")
+    message(FATAL_ERROR "blender2ogl_add_scene(${scene}): bad PARAMS:${problems}")
   endif()
 endfunction()
 

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <iterator>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -127,6 +128,30 @@ const OptionInfo* find_option(std::string_view name) {
   for (const OptionInfo& o : kTable)
     if (o.name == name) return &o;
   return nullptr;
+}
+
+std::string option_hint(std::string_view name) {
+  std::string fixed(name);
+  for (char& c : fixed) c = c == '-' ? '_' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  std::string hints;
+  for (const OptionInfo& o : kTable) {
+    const bool same = o.name == fixed;
+    const bool cut = fixed.size() > 1 && o.name.substr(0, fixed.size()) == fixed;
+    const bool long_ = o.name.size() > 1 && std::string_view(fixed).substr(0, o.name.size()) == o.name;
+    if (same || (find_option(fixed) == nullptr && (cut || long_))) (hints.empty() ? hints : hints += " or ") += o.name;
+  }
+  return hints.empty() ? std::string() : " (did you mean " + hints + "?)";
+}
+
+std::string check_param(std::string_view key, std::string_view value) {
+  const OptionInfo* o = find_option(key);
+  if (!o) {
+    std::string why(1, '\'');  // (built in steps: g++ 12 warns falsely on "'" + std::string)
+    return why.append(key).append("' is not a scene parameter").append(option_hint(key));
+  }
+  Options scratch;
+  if (std::string why = o->set(scratch, value); !why.empty()) return std::string(key) + " " + why;
+  return {};
 }
 
 std::string validate_options(const Options& options) {

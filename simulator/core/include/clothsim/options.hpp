@@ -91,6 +91,14 @@ std::span<const OptionInfo> option_table();
 /// The row named `name` (a PARAMS key, e.g. "k_struct"), or nullptr.
 const OptionInfo* find_option(std::string_view name);
 
+/// For a name that is no option: " (did you mean k_struct?)" when it looks like one (hyphens
+/// for underscores, another case, cut short or too long), else "".
+std::string option_hint(std::string_view name);
+
+/// Checks one baked parameter KEY=VALUE against the table; empty, or one line saying what is
+/// wrong with it (an unknown key with a hint, or why the option refuses the value).
+std::string check_param(std::string_view key, std::string_view value);
+
 /// Empty when every option is in its range, else a one-line reason naming the first that is not.
 std::string validate_options(const Options& options);
 
