@@ -190,7 +190,7 @@ const aiScene& read_model(Assimp::Importer& importer, const std::filesystem::pat
       while (!why.empty() && (why.back() == '\n' || why.back() == '\r')) why.pop_back();
       throw InputError(file.string() + ": cannot import: " + (why.empty() ? std::string("unknown error") : why));
     }
-    // (OBJ input went through the pre-scan: assimp's errors there are warned or refused before.)
+    // (OBJ input has been through the pre-scan, which warns of or refuses what assimp logs there.)
     // Other formats: an index out of range that assimp "repaired" would be a silently wrong
     // mesh: refused; assimp's other errors (a default material, an extra layer) are warnings.
     if (!is_obj)

@@ -73,7 +73,7 @@ struct Statement {
   std::size_t line_no = 0;
   bool continued = false;
   std::vector<std::string_view> tok;
-  std::string_view key() const { return tok[0]; }
+  std::string_view key() const { return tok[0]; }  // the keyword (`v`, `f`, `o`, ...)
 };
 
 // Where an `o`/`g` name stands in its statement's body.
@@ -90,6 +90,7 @@ class ObjPrescan {
   ObjScan run();
 
  private:
+  // Where `p` (a pointer into the text) is in the file.
   std::size_t offset(const char* p) const { return static_cast<std::size_t>(p - text_.data()); }
   std::size_t line_end(std::string_view line) const;
   bool next_lines(Statement& st);
