@@ -136,7 +136,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   // Only a folder this tool made is emptied (it holds its marker): any other, not empty, is
-  // refused (--work . once deleted the folder it was run in).
+  // refused (--work . would delete the folder it is run in).
   const fs::path marker = work / ".b2o_bake_speed";
   std::error_code ec;
   if (fs::exists(work, ec)) {

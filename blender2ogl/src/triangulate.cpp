@@ -1,8 +1,8 @@
 // triangulate: the converter's own triangulation of polygons (faces with more than 3 corners),
 // in place of assimp's aiProcess_Triangulate. assimp 5.2.5's ear clipper tests "no other
-// corner in the ear" strictly, so a corner on the ear's diagonal does not block the ear: an
-// L-shaped hexagon whose reflex corner lies on a diagonal became 4 triangles of area 4 (the
-// L has 3), two of them facing down. Here that test is inclusive; convex polygons and quads
+// corner in the ear" strictly, so a corner on the ear's diagonal does not block the ear: it
+// cuts an L-shaped hexagon whose reflex corner lies on a diagonal into 4 triangles of area 4
+// (the L has 3), two of them facing down. Here that test is inclusive; convex polygons and quads
 // (assimp's rule, the reflex corner found by a cross product's sign instead of acos) get
 // assimp's triangles, so their output is unchanged.
 #include <cmath>
