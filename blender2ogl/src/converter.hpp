@@ -50,7 +50,7 @@ struct Options {
   bool verbose = false;              ///< -v
   std::vector<std::string> cloth_objects;  ///< -a
   std::vector<PinSpec> pins;               ///< -p
-  std::vector<std::pair<std::string, double>> params;  ///< --param, in command-line order
+  std::vector<std::pair<std::string, std::string>> params;  ///< --param, in command-line order
   std::filesystem::path depfile;           ///< --depfile: Makefile-style list of inputs read
   bool allow_missing = false;  ///< --allow-missing: a missing .mtl or texture is a warning, not an error
 };
@@ -114,7 +114,7 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Texture> textures;
   std::vector<Cloth> cloths;
-  std::vector<std::pair<std::string, double>> params;
+  std::vector<std::pair<std::string, std::string>> params;
   std::vector<std::filesystem::path> inputs_read;  ///< .obj, .mtl, textures (for the depfile)
   std::vector<std::string> warnings;
   std::vector<std::pair<std::string, double>> timings_ms;  ///< phase -> milliseconds (-v)

@@ -10,17 +10,14 @@
 
 #include "converter.hpp"
 
+#include <blender2ogl/scene_types.h>
+
 namespace b2o::conv {
 namespace {
 
 std::string hexf(float f) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%af", static_cast<double>(f));
-  return buf;
-}
-std::string hexd(double d) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%a", d);
   return buf;
 }
 std::string u32(std::uint32_t v) { return std::to_string(v) + "u"; }
@@ -206,11 +203,7 @@ std::string tables(const Scene& s, const Layout& L, const std::string& indent, c
   }
   if (!s.params.empty()) {
     o << indent << storage << "::b2o::Param kParams[] = {\n";
-    for (const auto& [k, v] : s.params) {
-      char dec[64];
-      std::snprintf(dec, sizeof dec, "%.17g", v);
-      o << indent << "    {" << quote(k) << ", " << hexd(v) << "},  // " << dec << "\n";
-    }
+    for (const auto& [k, v] : s.params) o << indent << "    {" << quote(k) << ", " << quote(v) << "},\n";
     o << indent << "};\n";
   }
   return o.str();
@@ -256,8 +249,8 @@ std::string header(const Scene& s, const Options& opt, const Layout* text_layout
   if (!bake_id.empty())
     h << "#ifdef __ASSEMBLER__\n" << asm_part << "#else  // C++ from here on\n\n";
   h << "#include <blender2ogl/scene_types.h>\n\n#include <cstdint>\n#include <cstring>\n\n"
-    << "static_assert(::b2o::kFormatVersion == " << 1 << ", \"" << s.name
-    << ".h was baked for scene format 1; re-run blender2ogl\");\n\n"
+    << "static_assert(::b2o::kFormatVersion == " << ::b2o::kFormatVersion << ", \"" << s.name
+    << ".h was baked for scene format " << ::b2o::kFormatVersion << "; re-run blender2ogl\");\n\n"
     << "namespace " << ns << " {\n\n";
   auto n = [](std::size_t v) { return std::to_string(v) + "u"; };
   h << "inline constexpr std::uint32_t vertex_count = " << n(s.positions.size() / 3) << ";\n"
@@ -304,8 +297,8 @@ std::string header(const Scene& s, const Options& opt, const Layout* text_layout
     << "  for (std::uint32_t i = 0; i < scene.object_count; ++i)\n"
     << "    if (std::strcmp(scene.objects[i].name, name) == 0) return &scene.objects[i];\n"
     << "  return nullptr;\n}\n\n"
-    << "/// The value baked with `--param key=value`, or `fallback` when the bake had none.\n"
-    << "inline double param(const char* key, double fallback) noexcept {\n"
+    << "/// The value baked with `--param key=value` (its text), or `fallback` when the bake had none.\n"
+    << "inline const char* param(const char* key, const char* fallback) noexcept {\n"
     << "  for (std::uint32_t i = 0; i < scene.param_count; ++i)\n"
     << "    if (std::strcmp(scene.params[i].key, key) == 0) return scene.params[i].value;\n"
     << "  return fallback;\n}\n\n"

@@ -1,5 +1,6 @@
 // blender2ogl: bakes a Blender export (.obj/.mtl + textures) into C++ sources.
 // Exit codes: 0 success, 1 bad input (the message names the file and line), 2 bad usage.
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -35,7 +36,7 @@ Options:
                           (default: the model's file name without extension, cleaned)
   -p, --pin OBJECT:x,y,z  pin the mass of OBJECT nearest to (x, y, z) (repeatable; OBJECT
                           needs -a)
-      --param KEY=VALUE   bake a number into Scene::params (repeatable), e.g. dt=0.002
+      --param KEY=VALUE   bake a value into Scene::params (repeatable), e.g. dt=0.002
       --depfile FILE      write a Makefile-style list of the files read (for build tools)
       --allow-missing     a missing or unreadable .mtl or texture image is a warning (default
                           material / no texture) instead of an error
@@ -164,18 +165,13 @@ b2o::conv::Options parse(int argc, char** argv, bool& done) {
       const std::string kv = need("--param");
       const auto eq = kv.find('=');
       if (eq == std::string::npos || eq == 0) throw UsageError("--param " + kv + ": expected KEY=VALUE");
-      const std::string key = kv.substr(0, eq);
-      char* end = nullptr;
-      const std::string num = kv.substr(eq + 1);
-      errno = 0;
-      const double v = std::strtod(num.c_str(), &end);
-      if (!num.empty() && *end == '\0' && errno == ERANGE)  // (beyond a double, or so small it underflows)
-        throw UsageError("--param " + kv + ": the value is out of a double's range" +
-                         (std::fabs(v) <= 1.0 ? std::string(" (too small: it underflows)") : std::string()));
-      if (num.empty() || *end != '\0' || !std::isfinite(v))
-        throw UsageError("--param " + kv + ": the value is not a finite number");
+      const std::string key = kv.substr(0, eq), text = kv.substr(eq + 1);
+      // (the value is baked as text for the program that reads the scene: one printable word)
+      const auto printable = [](char c) { return c > ' ' && c < 127 && c != '"' && c != '\'' && c != '\\'; };
+      if (text.empty() || !std::all_of(text.begin(), text.end(), printable))
+        throw UsageError("--param " + kv + ": the value must be one word of printable characters (no spaces or quotes)");
       if (!param_keys.insert(key).second) throw UsageError("--param " + key + " given twice");
-      o.params.emplace_back(key, v);
+      o.params.emplace_back(key, text);
     } else if (arg == "--allow-missing") {
       if (has_value) throw UsageError("--allow-missing takes no value");
       o.allow_missing = true;

@@ -59,21 +59,22 @@ TEST(Cli, UsageErrorsExitTwo) {
                                              {"-t", "", fixture("grid.obj").string()},
                                              {"-p", "Cloth:1,2", fixture("grid.obj").string()},
                                              {"--param", "dt", fixture("grid.obj").string()},
-                                             {"--param", "dt=x", fixture("grid.obj").string()},
+                                             {"--param", "dt=", fixture("grid.obj").string()},
+                                             {"--param", "dt=0 1", fixture("grid.obj").string()},
                                              {"--param", "dt=1", "--param", "dt=2", fixture("grid.obj").string()},
                                              // one value each: given twice, the last silently won
                                              {"-t", "a", "-t", "b", fixture("grid.obj").string()},
                                              {"-n", "a", "-n", "b", fixture("grid.obj").string()},
                                              {"-c", "-s", fixture("grid.obj").string()},
                                              {"--depfile", "a.d", "--depfile", "b.d", fixture("grid.obj").string()},
-                                             {"--param", "dt=1e-400", fixture("grid.obj").string()}}) {
+                                             {"--param", "dt=\"1\"", fixture("grid.obj").string()}}) {
     const auto r = run_converter(args);
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("--help"), std::string::npos) << r.output;
   }
   EXPECT_NE(run_converter({"-c", "-s", fixture("grid.obj").string()}).output.find("-s and -c given together"),
             std::string::npos);
-  EXPECT_NE(run_converter({"--param", "dt=1e-400", fixture("grid.obj").string()}).output.find("too small: it underflows"),
+  EXPECT_NE(run_converter({"--param", "dt=0 1", fixture("grid.obj").string()}).output.find("one word of printable"),
             std::string::npos);
   // after "--" every argument is a file: a model named -m.obj
   const auto dir = scratch("cli_dashdash");

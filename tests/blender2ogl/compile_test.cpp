@@ -20,12 +20,12 @@ struct Input {
   std::vector<std::string> cloths;
   bool combined = false;
   bool first_object_cloth = false;  // give the first object masses (found after import)
-  std::vector<std::pair<std::string, double>> params;
+  std::vector<std::pair<std::string, std::string>> params;
 };
 
 std::vector<Input> inputs() {
   std::vector<Input> in = {
-      {fixture("grid.obj"), "grid", {"Cloth"}, false, false, {{"dt", 0.002}, {"k_rep", 2000.0}}},
+      {fixture("grid.obj"), "grid", {"Cloth"}, false, false, {{"dt", "0.002"}, {"k_rep", "2000"}, {"integrator", "xpbd"}}},
       {fixture("grid.obj"), "grid_text", {"Cloth"}, true, false, {}},
       {fixture("ngons_crlf.obj"), "ngons", {"class", "Penta Gon"}, false, false, {}},
       {fixture("plain.obj"), "plain", {}, false, false, {}},

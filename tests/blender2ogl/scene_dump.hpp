@@ -104,11 +104,9 @@ inline std::string dump_scene(const ::b2o::Scene& s) {
     put_array(o, "pins", c.pins, c.pin_count, u);
   }
   for (std::uint32_t i = 0; i < s.param_count; ++i) {
-    char buf[48];
-    std::snprintf(buf, sizeof buf, " %a", s.params[i].value);
     o += "param";
     put_s(o, s.params[i].key);
-    o += buf;
+    put_s(o, s.params[i].value);
     o += "\n";
   }
   return o;

@@ -140,7 +140,7 @@ inline void make_view(const conv::Scene& s, View& v) {
                         ptr(v.springs[i]), c.structural_count, static_cast<std::uint32_t>(c.triangles.size() / 3),
                         ptr(c.triangles), static_cast<std::uint32_t>(c.pins.size()), ptr(c.pins)});
   }
-  for (const auto& [k, val] : s.params) v.params.push_back({k.c_str(), val});
+  for (const auto& [k, val] : s.params) v.params.push_back({k.c_str(), val.c_str()});
   auto n = [](std::size_t x) { return static_cast<std::uint32_t>(x); };
   v.scene = {b2o::kFormatVersion, s.name.c_str(), s.source.c_str(), n(s.positions.size() / 3), ptr(s.positions),
              ptr(s.normals), ptr(s.texcoords), n(s.indices.size()), ptr(s.indices), n(v.objects.size()),

@@ -26,7 +26,7 @@ int run(const b2o::Scene& scene, const std::vector<std::string>& options, std::s
 
 TEST(AppParams, ABakedValueOutOfRangeIsNamedAsTheScenes) {
   clothsim::testing::HandScene hand(6);
-  const b2o::Param params[] = {{"dt", -1.0}};
+  const b2o::Param params[] = {{"dt", "-1"}};
   hand.scene.params = params;
   hand.scene.param_count = 1;
   std::string err;
@@ -45,7 +45,7 @@ TEST(AppParams, ABakedValueOutOfRangeIsNamedAsTheScenes) {
 
 TEST(AppParams, TheFailingValueIsTheOneNamed) {
   clothsim::testing::HandScene hand(6);
-  const b2o::Param params[] = {{"dt", -1.0}, {"mass", 0.0}};
+  const b2o::Param params[] = {{"dt", "-1"}, {"mass", "0"}};
   hand.scene.params = params;
   hand.scene.param_count = 2;
   std::string err;
@@ -58,7 +58,7 @@ TEST(AppParams, TheFailingValueIsTheOneNamed) {
 // which sets (0, -G, 0), says that it replaces it.
 TEST(AppParams, ABakedGravityVectorIsShownAndItsReplacementSaid) {
   clothsim::testing::HandScene hand(6);
-  const b2o::Param params[] = {{"gravity_x", 3.0}};
+  const b2o::Param params[] = {{"gravity_x", "3"}};
   hand.scene.params = params;
   hand.scene.param_count = 1;
   std::string err;

@@ -28,7 +28,7 @@ const std::uint32_t kClothTris[] = {0, 1, 2, 0, 2, 3};
 const std::uint32_t kPins[] = {3};
 b2o::Object kObjects[] = {{"Floor", "Floor", 0, 4, 0, 6, 0, 0, b2o::kNone}, {"Cloth", "Cloth", 4, 4, 6, 6, 0, 0, 0}};
 const b2o::Cloth kCloths[] = {{1, 4, kRest, nullptr, nullptr, nullptr, 6, kSprings, 5, 2, kClothTris, 1, kPins}};
-const b2o::Param kParams[] = {{"k_rep", 321.0}, {"dt", 0.004}, {"camera_distance", 5.0}};
+const b2o::Param kParams[] = {{"k_rep", "321"}, {"dt", "0.004"}, {"camera_distance", "5"}};
 
 b2o::Scene tiny() {
   b2o::Scene s{};
@@ -63,9 +63,9 @@ TEST(SceneAdapter, ParamsOverrideDefaultsAndUnknownKeysAreReported) {
 // Every option of the table is a PARAMS key: a scene baking it changes that option and no other.
 TEST(SceneAdapter, EveryTableOptionCanBeBaked) {
   for (const OptionInfo& option : option_table()) {
-    if (option.is_choice) continue;  // (a number param cannot name a choice)
+    if (option.is_choice) continue;  // (the choices: ParamsNameAChoice)
     const std::string key(option.name);
-    const b2o::Param p[] = {{key.c_str(), 12345.0}};
+    const b2o::Param p[] = {{key.c_str(), "12345"}};
     b2o::Scene s = tiny();
     s.param_count = 1;
     s.params = p;
@@ -78,9 +78,20 @@ TEST(SceneAdapter, EveryTableOptionCanBeBaked) {
   }
 }
 
+// A choice is baked by its name.
+TEST(SceneAdapter, ParamsNameAChoice) {
+  const b2o::Param p[] = {{"integrator", "xpbd"}, {"dt", "1e-3"}};
+  b2o::Scene s = tiny();
+  s.param_count = 2;
+  s.params = p;
+  const Options o = scene_options(s);
+  EXPECT_EQ(o.integrator, Integrator::XPBD);
+  EXPECT_EQ(o.dt, 1e-3);
+}
+
 // A baked value the option refuses is named with its key and not applied; scene_options() throws.
 TEST(SceneAdapter, ARefusedValueIsNamedNotApplied) {
-  const b2o::Param p[] = {{"dt", -1.0}};
+  const b2o::Param p[] = {{"dt", "-1"}};
   b2o::Scene s = tiny();
   s.param_count = 1;
   s.params = p;

@@ -14,7 +14,7 @@
 namespace b2o {
 
 /// Bumped whenever a field below changes; generated code static_asserts against it.
-inline constexpr std::uint32_t kFormatVersion = 1;
+inline constexpr std::uint32_t kFormatVersion = 2;
 
 /// Marks an absent index (no material, no texture, not a cloth).
 inline constexpr std::int32_t kNone = -1;
@@ -86,10 +86,11 @@ struct Cloth {
   const std::uint32_t* pins;               ///< (pin_count) sorted mass indices that never move
 };
 
-/// A named number given to the bake (`--param key=value`), e.g. a scene's own dt or k_rep.
+/// A named value given to the bake (`--param key=value`), e.g. a scene's own dt or
+/// integrator, as written: the program that reads the scene interprets it.
 struct Param {
   const char* key;
-  double value;
+  const char* value;  ///< the text after '=' ("0.002", "xpbd")
 };
 
 struct Scene {

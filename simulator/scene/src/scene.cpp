@@ -25,7 +25,7 @@ BakedParams read_scene_params(const b2o::Scene& scene, Options base) {
     const OptionInfo* option = find_option(key);
     if (!option)
       out.unknown.push_back(key);
-    else if (std::string why = option->set(out.options, number_text(scene.params[i].value)); !why.empty())
+    else if (std::string why = option->set(out.options, scene.params[i].value ? scene.params[i].value : ""); !why.empty())
       out.refused.push_back({key, std::move(why)});
   }
   return out;

@@ -6,8 +6,8 @@
 int main() {
   const b2o::Scene& s = b2o::gen::tiny::scene;
   const b2o::Cloth& c = s.cloths[b2o::gen::tiny::cloth::Cloth];
-  std::printf("scene %s vertices %u triangles %u objects %u masses %u springs %u pins %u dt %g texture %u\n", s.name,
+  std::printf("scene %s vertices %u triangles %u objects %u masses %u springs %u pins %u dt %s texture %u\n", s.name,
               s.vertex_count, s.index_count / 3, s.object_count, c.mass_count, c.spring_count, c.pin_count,
-              b2o::gen::tiny::param("dt", 0.0), s.texture_count > 0 ? s.textures[0].size : 0u);
+              b2o::gen::tiny::param("dt", "none"), s.texture_count > 0 ? s.textures[0].size : 0u);
   return s.vertex_count == b2o::gen::tiny::vertex_count ? 0 : 1;
 }

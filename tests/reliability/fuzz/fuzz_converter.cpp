@@ -132,7 +132,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   opt.merge = flags & kMerge;
   opt.reverse_map = flags & kReverse;
   opt.combined = flags & kCombined;
-  if (flags & kParam) opt.params = {{"dt", 0.01}, {"k_rep", 1e3}};
+  if (flags & kParam) opt.params = {{"dt", "0.01"}, {"k_rep", "1e3"}};
   try {
     conv::Scene scene = conv::import_scene(input, opt.merge, /*allow_missing=*/true);  // more of the path than a refusal
     scene.name = conv::clean_identifier(input.stem().string());  // as run() does

@@ -86,10 +86,10 @@ b2o_grid_cloth0_triangles:
 	.size b2o_grid_cloth0_pins, 8
 b2o_grid_cloth0_pins:
 	.incbin "grid.37536d974c7f0738.bin", 1392, 8
-	.globl b2o_grid_bake_ae682e324630d769
-	.type b2o_grid_bake_ae682e324630d769, @object
-	.size b2o_grid_bake_ae682e324630d769, 1
-b2o_grid_bake_ae682e324630d769:
+	.globl b2o_grid_bake_009761ee67fe4ce9
+	.type b2o_grid_bake_009761ee67fe4ce9, @object
+	.size b2o_grid_bake_009761ee67fe4ce9, 1
+b2o_grid_bake_009761ee67fe4ce9:
 	.byte 0
 	.section .note.GNU-stack,"",@progbits
 #else  // C++ from here on
@@ -99,7 +99,7 @@ b2o_grid_bake_ae682e324630d769:
 #include <cstdint>
 #include <cstring>
 
-static_assert(::b2o::kFormatVersion == 1, "grid.h was baked for scene format 1; re-run blender2ogl");
+static_assert(::b2o::kFormatVersion == 2, "grid.h was baked for scene format 2; re-run blender2ogl");
 
 namespace b2o::gen::grid {
 
@@ -113,7 +113,7 @@ inline constexpr std::uint32_t cloth_count = 1u;
 inline constexpr std::uint32_t param_count = 2u;
 inline constexpr bool has_vertex_mass = true;
 /// Identifies this bake (its tables and bulk bytes).
-inline constexpr std::uint64_t bake_id = 0xae682e324630d769ull;
+inline constexpr std::uint64_t bake_id = 0x009761ee67fe4ce9ull;
 
 /// Indices into scene.objects.
 namespace object {
@@ -136,8 +136,8 @@ inline const ::b2o::Object* find_object(const char* name) noexcept {
   return nullptr;
 }
 
-/// The value baked with `--param key=value`, or `fallback` when the bake had none.
-inline double param(const char* key, double fallback) noexcept {
+/// The value baked with `--param key=value` (its text), or `fallback` when the bake had none.
+inline const char* param(const char* key, const char* fallback) noexcept {
   for (std::uint32_t i = 0; i < scene.param_count; ++i)
     if (std::strcmp(scene.params[i].key, key) == 0) return scene.params[i].value;
   return fallback;
@@ -162,7 +162,7 @@ extern const std::uint32_t b2o_grid_cloth0_vertex_mass[];
 extern const ::b2o::Spring b2o_grid_cloth0_springs[];
 extern const std::uint32_t b2o_grid_cloth0_triangles[];
 extern const std::uint32_t b2o_grid_cloth0_pins[];
-extern const unsigned char b2o_grid_bake_ae682e324630d769[];
+extern const unsigned char b2o_grid_bake_009761ee67fe4ce9[];
 }
 
 namespace b2o::gen::grid {
@@ -187,8 +187,8 @@ constexpr ::b2o::Cloth kCloths[] = {
      24u, b2o_grid_cloth0_springs, 16u, 8u, b2o_grid_cloth0_triangles, 2u, b2o_grid_cloth0_pins},
 };
 constexpr ::b2o::Param kParams[] = {
-    {"dt", 0x1.0624dd2f1a9fcp-9},  // 0.002
-    {"k_rep", 0x1.f4p+10},  // 2000
+    {"dt", "0.002"},
+    {"k_rep", "2000"},
 };
 }  // namespace
 
@@ -205,7 +205,7 @@ const ::b2o::Scene scene = {
 };
 
 extern const unsigned char* const bake_check;
-const unsigned char* const bake_check = b2o_grid_bake_ae682e324630d769;
+const unsigned char* const bake_check = b2o_grid_bake_009761ee67fe4ce9;
 
 }  // namespace b2o::gen::grid
 #endif  // B2O_GRID_DEFINE_SCENE

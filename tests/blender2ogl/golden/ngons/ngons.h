@@ -68,10 +68,10 @@ b2o_ngons_cloth0_springs:
 	.size b2o_ngons_cloth0_triangles, 24
 b2o_ngons_cloth0_triangles:
 	.incbin "ngons.099691c6471c5a1c.bin", 656, 24
-	.globl b2o_ngons_bake_0037cc9fecfa5cd4
-	.type b2o_ngons_bake_0037cc9fecfa5cd4, @object
-	.size b2o_ngons_bake_0037cc9fecfa5cd4, 1
-b2o_ngons_bake_0037cc9fecfa5cd4:
+	.globl b2o_ngons_bake_1e7aa9874a450108
+	.type b2o_ngons_bake_1e7aa9874a450108, @object
+	.size b2o_ngons_bake_1e7aa9874a450108, 1
+b2o_ngons_bake_1e7aa9874a450108:
 	.byte 0
 	.section .note.GNU-stack,"",@progbits
 #else  // C++ from here on
@@ -81,7 +81,7 @@ b2o_ngons_bake_0037cc9fecfa5cd4:
 #include <cstdint>
 #include <cstring>
 
-static_assert(::b2o::kFormatVersion == 1, "ngons.h was baked for scene format 1; re-run blender2ogl");
+static_assert(::b2o::kFormatVersion == 2, "ngons.h was baked for scene format 2; re-run blender2ogl");
 
 namespace b2o::gen::ngons {
 
@@ -95,7 +95,7 @@ inline constexpr std::uint32_t cloth_count = 1u;
 inline constexpr std::uint32_t param_count = 0u;
 inline constexpr bool has_vertex_mass = false;
 /// Identifies this bake (its tables and bulk bytes).
-inline constexpr std::uint64_t bake_id = 0x0037cc9fecfa5cd4ull;
+inline constexpr std::uint64_t bake_id = 0x1e7aa9874a450108ull;
 
 /// Indices into scene.objects.
 namespace object {
@@ -119,8 +119,8 @@ inline const ::b2o::Object* find_object(const char* name) noexcept {
   return nullptr;
 }
 
-/// The value baked with `--param key=value`, or `fallback` when the bake had none.
-inline double param(const char* key, double fallback) noexcept {
+/// The value baked with `--param key=value` (its text), or `fallback` when the bake had none.
+inline const char* param(const char* key, const char* fallback) noexcept {
   for (std::uint32_t i = 0; i < scene.param_count; ++i)
     if (std::strcmp(scene.params[i].key, key) == 0) return scene.params[i].value;
   return fallback;
@@ -142,7 +142,7 @@ extern const std::uint32_t b2o_ngons_cloth0_mass_vertex_offsets[];
 extern const std::uint32_t b2o_ngons_cloth0_mass_vertices[];
 extern const ::b2o::Spring b2o_ngons_cloth0_springs[];
 extern const std::uint32_t b2o_ngons_cloth0_triangles[];
-extern const unsigned char b2o_ngons_bake_0037cc9fecfa5cd4[];
+extern const unsigned char b2o_ngons_bake_1e7aa9874a450108[];
 }
 
 namespace b2o::gen::ngons {
@@ -179,7 +179,7 @@ const ::b2o::Scene scene = {
 };
 
 extern const unsigned char* const bake_check;
-const unsigned char* const bake_check = b2o_ngons_bake_0037cc9fecfa5cd4;
+const unsigned char* const bake_check = b2o_ngons_bake_1e7aa9874a450108;
 
 }  // namespace b2o::gen::ngons
 #endif  // B2O_NGONS_DEFINE_SCENE

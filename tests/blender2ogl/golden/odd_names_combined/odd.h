@@ -15,7 +15,7 @@
 #include <cstdint>
 #include <cstring>
 
-static_assert(::b2o::kFormatVersion == 1, "odd.h was baked for scene format 1; re-run blender2ogl");
+static_assert(::b2o::kFormatVersion == 2, "odd.h was baked for scene format 2; re-run blender2ogl");
 
 namespace b2o::gen::odd {
 
@@ -115,8 +115,8 @@ inline const ::b2o::Object* find_object(const char* name) noexcept {
   return nullptr;
 }
 
-/// The value baked with `--param key=value`, or `fallback` when the bake had none.
-inline double param(const char* key, double fallback) noexcept {
+/// The value baked with `--param key=value` (its text), or `fallback` when the bake had none.
+inline const char* param(const char* key, const char* fallback) noexcept {
   for (std::uint32_t i = 0; i < scene.param_count; ++i)
     if (std::strcmp(scene.params[i].key, key) == 0) return scene.params[i].value;
   return fallback;
