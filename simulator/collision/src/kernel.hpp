@@ -2,12 +2,20 @@
 // point_triangle() compute bit-identical distances for the same triangle.
 #pragma once
 
-#include "clothsim/collision.hpp"
-
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstddef>
 
+#include "clothsim/collision/point_triangle.hpp"
+
 namespace clothsim::detail {
+
+/// The unit normal of a triangle with edges AB, AC (counter-clockwise winding), as every
+/// path stores it.
+inline Eigen::Vector3d unit_normal(const Eigen::Vector3d& ab, const Eigen::Vector3d& ac) {
+  return ab.cross(ac).normalized();
+}
 
 /// Closest point on triangle (A, A+AB, A+AC) to P after Ericson, "Real-Time Collision
 /// Detection" 5.1.5, with unit normal n. Returns |P - Q|^2; `s` = n.(P - A) (signed plane
