@@ -13,9 +13,9 @@
 
 namespace clothsim::detail {
 
-// A list that survived fewer certified calls than this did not pay for its K-nearest search
-// (measured: it costs 3-5 plain searches); after kRetry 1-nearest searches (times
-// 2^backoff), a list is tried again.
+// A list that survives fewer certified calls than this does not pay for its K-nearest search
+// (which costs 3-5 plain searches); after kRetry 1-nearest searches (times 2^backoff), a list
+// is tried again.
 constexpr std::uint16_t kMinAge = 8;
 constexpr std::uint8_t kRetry = 8;
 // Objects with more triangles than this keep a copy of each entry's first candidate in the

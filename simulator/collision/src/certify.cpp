@@ -43,8 +43,8 @@ using detail::store_plane;
   } else {
     const float* cl = cache.lower.data() + ei * cache.candidates();
     if (static_cast<double>(cl[0]) - moved - m > reach) return false;
-    // The corners are read in place (a Tri filled from either source was spilled to the
-    // stack and read back, stalling).
+    // The corners are read in place (a Tri filled from either source is spilled to the
+    // stack and read back, a stall).
     double s, d2;
     const double* n;
     std::size_t stride;
@@ -109,9 +109,9 @@ using detail::store_plane;
     double loser_s = 0.0;                                     // and its plane distance
     if (!alone) {
       // The second candidate may be as near (a point over an edge between two triangles, or
-      // one whose second triangle is only a little farther): evaluate it too. (Leaving the
-      // second case to query_cached(), which moves the certificate, cost 700 calls per step
-      // while the skirt slid over the sphere: its gap was gone again one step later.)
+      // one whose second triangle is only a little farther): evaluate it too, here. (In the
+      // second case query_cached() would move the certificate, but the gap of a sliding point
+      // is gone again a step later: ~700 full checks per step on the skirt's sphere.)
       const double* t = tri_ptr(cache.slots[ei * cache.candidates() + 1]);
       const double d2a = d2, sa = s;  // the first candidate's, for query_cached_from()
       double s1;

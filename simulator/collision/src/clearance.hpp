@@ -25,8 +25,8 @@ constexpr double kLooseDepth = 2e-5;
 // tau, of the coordinates' scale: how far behind a plane a triangle out of the way must be, and
 // the gap by which clear faces and edge answers win. The certificates' rounding margin m (1e-12
 // of the coordinates) must not exceed it; both are far above the kernel's rounding (~1e-15 of
-// the coordinates). (1e-9 until stop 17: on a 5 mm mesh an edge answer then held only for
-// points within ~10 cm, zeta^2 >= 6 d tau; now within ~10 m.)
+// the coordinates). An edge answer needs zeta^2 >= 6 d tau: on a 5 mm mesh it holds for
+// points within ~10 m (with tau = 1e-9, only within ~10 cm).
 constexpr double kTau = 1e-11;
 
 }  // namespace detail

@@ -14,8 +14,8 @@ namespace clothsim {
 
 namespace detail {
 
-// Triangle slots come in blocks of 4 (one leaf each), component-major inside a block.
-// (Slot-major, 96 contiguous bytes per triangle, made the searches 4-7 % slower.)
+// Triangle slots come in blocks of 4 (one leaf each), component-major inside a block (a
+// slot-major layout, 96 contiguous bytes per triangle, makes the searches 4-7 % slower).
 constexpr std::uint32_t kBlock = 4;
 
 // Total order for "closest": distance, then lowest input triangle index.

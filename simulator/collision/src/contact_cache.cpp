@@ -151,8 +151,9 @@ ColliderHit ColliderSet::renew_cached(std::size_t o, const double p[3], double r
         query_object(o, p, radius_sq, method, e.count >= 1 ? e.tri_index : -1, &lb);
     // Another triangle ties with the answer (within 4 m; a point near a vertex): a
     // single-triangle certificate cannot hold for one call there. On a small collider,
-    // whose lists live long, a list is made at once instead (skirt_hires's first 2 s: 1.0 %
-    // fewer instructions; on fine spheres, whose lists die young, it cost up to 1.4 %).
+    // whose lists live long, a list is made at once instead (1.0 % fewer instructions in
+    // skirt_hires's first 2 s; not on large ones: on fine spheres, whose lists die young, it
+    // costs up to 1.4 %).
     const bool tie = k > 1 && ob.kept <= kCopyAbove && hit.valid() &&
                      !(std::sqrt(hit.distance_sq) + 4.0 * m < lb);
     if (!tie) {

@@ -169,7 +169,7 @@ struct PenaltyPass {
       if (!hints.empty()) std::fill_n(hints.begin() + static_cast<std::ptrdiff_t>(i * no), no, -1);
       // A NaN point's entries start again; a far point's are left as they are (its
       // certificates stay true wherever it goes, as for one object's box in pair()): writing
-      // them cost two cache lines per point and step while the cloth was away.
+      // them would cost two cache lines per point and step while the cloth is away.
       if (cache && !finite)
         for (std::size_t o = 0; o < no; ++o) cache->entries[i * no + o].count = -1;
       return;

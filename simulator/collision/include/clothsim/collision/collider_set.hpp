@@ -167,7 +167,7 @@ struct ColliderSet {
   /// (`region`; dir = (P - Q) / |P - Q|): whether p is outside the solid after all, beside a
   /// sharp ridge or tip where one face's plane cuts through the space outside the others. By
   /// the angle-weighted pseudonormal at Q. False when it cannot tell (an open or non-manifold
-  /// neighbourhood): then p stays behind, as before.
+  /// neighbourhood): then p counts as behind.
   bool outside_at_feature(std::size_t o, const double p[3], const double* t, std::size_t stride,
                           TriangleRegion region, const double dir[3]) const;
 

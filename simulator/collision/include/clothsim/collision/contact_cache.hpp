@@ -16,8 +16,8 @@ namespace clothsim {
 /// reach (a Verlet list) and L, a lower bound of the distance of every other triangle. While
 /// the point has moved d from where the list was made, only the candidates are evaluated
 /// (nearest first, stopping when the rest cannot win); if the best is closer than L - d it is
-/// the global answer, bit for bit. candidates = 1: the single-triangle certificate of earlier
-/// versions (the closest triangle and a 1-nearest search), kept as a reference. With K >= 2 a
+/// the global answer, bit for bit. candidates = 1: a single-triangle certificate (the closest
+/// triangle and a 1-nearest search), the simplest form, as a reference. With K >= 2 a
 /// point whose list did not survive 8 calls gets 1-nearest searches (one candidate) instead,
 /// until such a certificate survives 8 calls or 8 of them were made (16, 32 .. 1024 when lists
 /// keep dying young): fast points then cost about what the plain search costs instead of the
