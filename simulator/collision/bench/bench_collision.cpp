@@ -79,7 +79,7 @@ void BM_BvhHints(benchmark::State& s) {
 // triangles; a candidate list or certificate expires as it would for sliding cloth (a back and
 // forth between two configurations would never expire it). range(1): step in um (1: at rest,
 // 200: 0.1 m/s at dt 0.002, 1000: 1 mm per call); range(2): 0 = BVH + hints, K >= 1 = a
-// ContactCache with K candidates (1: the single-triangle certificate of earlier versions).
+// ContactCache with K candidates (1: the single-triangle certificate).
 void moving(benchmark::State& state, double eps, bool front = false, bool prepared = false) {
   // A copy of the built sphere, whose clearances no other benchmark has computed.
   const clothsim::ColliderSet set = sphere(static_cast<int>(state.range(0)));

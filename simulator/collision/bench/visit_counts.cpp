@@ -1,5 +1,5 @@
 // Work per query, independent of the machine: triangle tests and box tests per point for
-// points at distance d from an icosphere of T triangles (collision.cpp built with
+// points at distance d from an icosphere of T triangles (the library's sources built with
 // CLOTHSIM_COLLISION_COUNTERS). A search that grows as log T adds a constant per 4x T.
 #include <cstdio>
 #include <string>
@@ -10,7 +10,7 @@
 #include "clothsim/collision_meshes.hpp"
 
 namespace clothsim {
-extern std::uint64_t g_tri_tests, g_box_tests;  // defined in collision.cpp with the counters
+extern std::uint64_t g_tri_tests, g_box_tests;  // defined in bvh_query.cpp with the counters
 }
 
 int main(int argc, char** argv) {

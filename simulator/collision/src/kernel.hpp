@@ -2,12 +2,20 @@
 // point_triangle() compute bit-identical distances for the same triangle.
 #pragma once
 
-#include "clothsim/collision.hpp"
-
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstddef>
 
+#include "clothsim/collision/point_triangle.hpp"
+
 namespace clothsim::detail {
+
+/// The unit normal of a triangle with edges AB, AC (counter-clockwise winding), as every
+/// path stores it.
+inline Eigen::Vector3d unit_normal(const Eigen::Vector3d& ab, const Eigen::Vector3d& ac) {
+  return ab.cross(ac).normalized();
+}
 
 /// Closest point on triangle (A, A+AB, A+AC) to P after Ericson, "Real-Time Collision
 /// Detection" 5.1.5, with unit normal n. Returns |P - Q|^2; `s` = n.(P - A) (signed plane
@@ -105,10 +113,10 @@ inline double closest_sq(const double p[3], const double* b, double& s, bool& fa
 /// closed mesh (`open` false: every edge shared by two triangles) with P behind the face's
 /// plane it returns 2 with d, dir and `region` set: inside beside a reflex edge, outside
 /// beside a sharp ridge or tip; ColliderSet::outside_at_feature() tells which.
-/// So the push is the same whichever of the triangles that share the edge or corner won the
-/// tie (a cloth centred on a box drifted off the side whose face had the lower index), and
-/// beside the rim of an open mesh a point below its level is not "behind" it (pushed up by
-/// k_rep (eps + d), a force with no potential: a cloth draped over a plate gained energy).
+/// So the push is the same whichever of the triangles that share the edge or corner wins the
+/// tie (else a cloth centred on a box drifts off towards the face of lower index), and beside
+/// the rim of an open mesh a point below its level is not "behind" it (else it is pushed up
+/// by k_rep (eps + d), a force with no potential that feeds energy into a draped cloth).
 inline int edge_contact(const double p[3], const double* t, std::size_t stride, bool open, double& d,
                         double dir[3], TriangleRegion& region) {
   double s, v, w;
@@ -134,9 +142,9 @@ inline int edge_contact(const double p[3], const double* t, std::size_t stride, 
 /// The signed distance from d = |P - Q| and s = n.(P - A): behind (-d) only when P is behind
 /// the plane by more than 1e-6 d. A point beyond an edge or a vertex that lies in the plane
 /// up to rounding (|s| tiny against d) is in front: there the plane does not say on which side
-/// of the solid P is, and for a convex edge it is outside. (A point on a box's top exactly in
-/// the plane of its side face ties between the two faces; the side face, taken on the index,
-/// used to call it behind by the height above the box: docs/collision.md "Distance".)
+/// of the solid P is, and for a convex edge it is outside. (A point above a box's top, exactly
+/// in the plane of its side face, ties between the two faces; by that plane's sign the side
+/// face, taken on the index, would call it behind by its height: docs/collision.md "Distance".)
 inline double signed_from(double d, double s) { return s < 0.0 && -s > 1e-6 * d ? -d : d; }
 
 /// The same from |P - Q|^2; +0 on the plane.
