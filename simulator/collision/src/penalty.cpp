@@ -35,12 +35,6 @@ void detail::PenaltyPass::full(std::size_t i, std::size_t o, const double p[3],
                             detail::PenaltyLoop::triangle_data(set, h), kBlock);
 }
 
-#ifdef CLOTHSIM_AVX2
-bool detail::use_avx2() {
-  static const bool yes = __builtin_cpu_supports("avx2") && std::getenv("CLOTHSIM_NO_AVX2") == nullptr;
-  return yes;
-}
-#endif
 
 namespace {
 

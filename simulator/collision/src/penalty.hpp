@@ -14,6 +14,7 @@
 #include "clothsim/collision/collider_set.hpp"
 #include "clothsim/collision/contact_cache.hpp"
 #include "clothsim/collision/penalty.hpp"
+#include "clothsim/cpu.hpp"
 #include "collider.hpp"
 #include "kernel.hpp"
 
@@ -179,9 +180,6 @@ struct PenaltyPass {
 };
 
 #ifdef CLOTHSIM_AVX2
-/// Whether the loop may take four points at a time in AVX2 lanes (the CPU has AVX2 and
-/// CLOTHSIM_NO_AVX2 is not set).
-bool use_avx2();
 /// The pass's points [i, end) four at a time (penalty_avx2.cpp); returns where it stopped.
 __attribute__((target("avx2"))) std::size_t groups_avx2(PenaltyPass& pass, std::size_t i, std::size_t end);
 #endif

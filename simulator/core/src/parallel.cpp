@@ -37,11 +37,5 @@ bool step_splits(const Model& model) {
   return std::max(n, collision) >= detail::kTeamWork;  // team() of the mass loops and of the collision
 }
 
-#ifdef CLOTHSIM_AVX2
-bool detail::use_avx2() {
-  static const bool yes = __builtin_cpu_supports("avx2") && std::getenv("CLOTHSIM_NO_AVX2") == nullptr;
-  return yes;
-}
-#endif
 
 }  // namespace clothsim

@@ -1,6 +1,7 @@
 // What the core's loops share: thread teams, the run-time AVX2 choice, finiteness tests.
 #pragma once
 
+#include <clothsim/cpu.hpp>
 #include <clothsim/step.hpp>
 
 #include <cstddef>
@@ -35,8 +36,6 @@ inline int team(const Workspace& ws, std::size_t work) { return work >= kTeamWor
 /// The collision loop's work for team(): a query costs ~10 spring terms, so half a mass's.
 inline std::size_t collision_work(std::size_t masses, std::size_t objects) { return masses * objects / 2; }
 
-/// Whether the AVX2 paths run: the CPU has AVX2 and CLOTHSIM_NO_AVX2 is not set.
-bool use_avx2();
 
 /// Whether p[0 .. n) are all finite (integer tests: the same answer on any path).
 bool finite_span(const double* p, std::size_t n);
