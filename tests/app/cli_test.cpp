@@ -17,73 +17,15 @@
 #include <sstream>
 #include <string>
 
+#include "program.hpp"
+
 namespace {
 
-namespace fs = std::filesystem;
-
-struct Result {
-  int code = -1;
-  std::string output;  // stdout + stderr
-};
-
-// `exe` with `args`; `shell_prefix`: shell commands run first (e.g. "cd DIR && ", "ulimit -f 0; ").
-Result run_program(const std::string& exe, const std::string& args, const std::string& shell_prefix = "") {
-  const std::string cmd = shell_prefix + "'" + exe + "' " + args + " 2>&1";
-  Result r;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), static_cast<int>(buf.size()), p)) r.output += buf.data();
-  const int status = ::pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using namespace clothsim::testing;
 
 Result run(const std::string& args, const std::string& shell_prefix = "") {
   return run_program(CLOTHSIM_DICE_EXE, args, shell_prefix);
 }
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("clothsim_cli_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-nlohmann::json read_json(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::string text, line;
-  while (std::getline(in, line)) text += line + "\n";
-  return text;
-}
-
-long entries(const fs::path& d) { return std::distance(fs::directory_iterator(d), fs::directory_iterator{}); }
-
-// 'p' for the shell (built in steps: g++ 12 warns falsely on "'" + p.string() + "'")
-std::string q(const fs::path& p) {
-  std::string s = p.string();
-  s.insert(0, 1, '\'');
-  s += '\'';
-  return s;
-}
-
-// A character device like /dev/null (minor 3) or /dev/full (minor 7) of our own; the tests
-// never touch the real ones. False when mknod is not permitted.
-bool make_char_device(const fs::path& p, unsigned minor) {
-  return ::mknod(p.c_str(), S_IFCHR | 0666, makedev(1, minor)) == 0;
-}
-
-bool is_char_device(const fs::path& p) {
-  struct stat st {};
-  return ::stat(p.c_str(), &st) == 0 && S_ISCHR(st.st_mode);
-}
-
-int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
 TEST(Cli, HelpExitsZeroAndListsDefaultsAndTheSceneValues) {
   const Result r = run("--help");
@@ -685,58 +627,7 @@ TEST(Cli, ViewerOptionsThatWouldDoNothingAreBadInput) {
   EXPECT_TRUE(fs::is_empty(d));
 }
 
-#ifdef CLOTHSIM_WP_EXE
-// clothsim_wp (the work-precision tool) writes <out>/<scene>.csv and .svg by the same rule:
-// the paths are checked before the study (exit 2), a device is written through, never replaced.
-// Values that ran a nonsense study with exit 0 (a NaN or overflowing stiffness, an
-// integrator given twice, whose order came out as garbage), a scene the tool does not have
-// (named with the ones it has), and study options with --model-cost: bad input, one line.
-TEST(WorkPrecision, BadStudiesAreRefusedBeforeTheyRun) {
-  const fs::path d = fresh_dir("wp_bad");
-  const std::string out = " --fast --scene hanging --out " + q(d / "out");
-  for (const std::string& args : {"--stiffness-scale nan" + out, "--stiffness-scale 1e306" + out,
-                                  "--horizon 0" + out, "--integrators rk4,rk4" + out,
-                                  std::string("--scene hanging --scene hanging --fast"), std::string("--scene dice"),
-                                  "--model-cost --scene hanging --out " + q(d / "out")}) {
-    const Result r = run_program(CLOTHSIM_WP_EXE, args);
-    EXPECT_EQ(r.code, 2) << args << ": " << r.output;
-    EXPECT_EQ(lines(r.output), 1) << args << ": " << r.output;
-  }
-  EXPECT_NE(run_program(CLOTHSIM_WP_EXE, "--scene dice").output.find("(hanging, skirt)"), std::string::npos);
-  EXPECT_FALSE(fs::exists(d / "out"));
-  EXPECT_EQ(run_program(CLOTHSIM_WP_EXE, "--version").code, 0);
-}
 
-TEST(WorkPrecision, OutputPathsAreCheckedBeforeTheStudy) {
-  const fs::path d = fresh_dir("wp_paths");
-  { std::ofstream(d / "afile") << "x\n"; }
-  fs::create_directories(d / "out" / "hanging.csv");
-  const std::string study = "--fast --scene hanging --integrators symplectic-euler --out ";
-  const Result file = run_program(CLOTHSIM_WP_EXE, study + q(d / "afile"));
-  EXPECT_EQ(file.code, 2) << file.output;
-  EXPECT_NE(file.output.find("afile' is not a directory"), std::string::npos) << file.output;
-  EXPECT_EQ(lines(file.output), 1) << file.output;
-  const Result taken = run_program(CLOTHSIM_WP_EXE, study + q(d / "out"));
-  EXPECT_EQ(taken.code, 2) << taken.output;
-  EXPECT_NE(taken.output.find("hanging.csv' is a directory"), std::string::npos) << taken.output;
-  EXPECT_EQ(lines(taken.output), 1) << taken.output;
-  EXPECT_EQ(entries(d / "out"), 1);
-  const Result bogus = run_program(CLOTHSIM_WP_EXE, "--bogus");
-  EXPECT_EQ(bogus.code, 2) << bogus.output;
-}
-
-TEST(WorkPrecision, OutputsIntoDevicesAreWrittenThrough) {
-  const fs::path d = fresh_dir("wp_devices");
-  if (!make_char_device(d / "hanging.csv", 3) || !make_char_device(d / "hanging.svg", 7))
-    GTEST_SKIP() << "mknod not permitted: " << std::strerror(errno);
-  const Result r = run_program(CLOTHSIM_WP_EXE, "--fast --scene hanging --integrators symplectic-euler --out " + q(d));
-  EXPECT_EQ(r.code, 1) << r.output;  // the .svg went to a full device
-  EXPECT_NE(r.output.find("hanging.svg': No space left"), std::string::npos) << r.output;
-  EXPECT_TRUE(is_char_device(d / "hanging.csv")) << "the device was replaced";
-  EXPECT_TRUE(is_char_device(d / "hanging.svg")) << "the device was replaced";
-  EXPECT_EQ(entries(d), 2) << "a temporary file was left";
-}
-#endif
 
 }  // namespace
 
