@@ -19,6 +19,7 @@
 #include <GLFW/glfw3.h>
 
 #include <algorithm>
+#include <deque>
 #include <limits>
 #include <optional>
 #include <chrono>
@@ -201,16 +202,16 @@ class Viewer {
     });
     glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int) {
       if (action == GLFW_PRESS || action == GLFW_REPEAT)
-        static_cast<Viewer*>(glfwGetWindowUserPointer(w))->on_key(key, action);
+        static_cast<Viewer*>(glfwGetWindowUserPointer(w))->input({Input::Key, key, action, 0, 0.0, 0.0});
     });
     glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int mods) {
-      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->on_button(button, action, mods);
+      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->input({Input::Button, button, action, mods, 0.0, 0.0});
     });
     glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) {
-      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->on_cursor(x, y);
+      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->input({Input::Cursor, 0, 0, 0, x, y});
     });
     glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double dy) {
-      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->camera_.zoom(dy);
+      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->input({Input::Scroll, 0, 0, 0, 0.0, dy});
     });
 
     // The look-ahead (--lookahead): a ring of states the picture plays while the simulation
@@ -339,8 +340,9 @@ class Viewer {
           clock_.reset();
           n = pending_steps_;  // N presses, each one step of dt, even several within one frame
         }
-        // paused with nothing to step: frames at most 60 per second (it drew as fast as it could)
-        if (paused_ && pending_steps_ == 0 && !dragging_) {
+        // paused with nothing to step: frames at most 60 per second (it drew as fast as it could);
+        // a requested screenshot is drawn at once
+        if (paused_ && pending_steps_ == 0 && !dragging_ && !screenshot_request_) {
           const double since = std::chrono::duration<double>(now - last_frame).count();
           if (since < view::Playback::kMinFrameInterval) {
             glfwWaitEventsTimeout(view::Playback::kMinFrameInterval - since);
@@ -367,6 +369,7 @@ class Viewer {
         if (screenshot_request_) {
           screenshot_request_ = false;
           save_numbered_screenshot();
+          replay_deferred();
         }
         glfwSwapBuffers(window_);
         // A software renderer drawing on the cores the simulation's threads all use: let it
@@ -518,6 +521,39 @@ class Viewer {
       if (err.empty()) std::printf("clothsim: wrote %s\n", name);
       else std::fprintf(stderr, "clothsim: %s\n", err.c_str());
       return;
+    }
+  }
+
+  // An input event as GLFW gives it: key (key, action), button (button, action, mods),
+  // cursor (x, y) or scroll (y).
+  struct Input {
+    enum Kind { Key, Button, Cursor, Scroll } kind;
+    int code, action, mods;
+    double x, y;
+  };
+
+  // P saves the picture as of its press: the input after it waits until the screenshot is
+  // taken (a Q right after P still gets its picture; a drag released after P is in it).
+  void input(const Input& e) {
+    if (screenshot_request_ || !deferred_.empty()) deferred_.push_back(e);
+    else apply(e);
+  }
+
+  void apply(const Input& e) {
+    switch (e.kind) {
+      case Input::Key: on_key(e.code, e.action); break;
+      case Input::Button: on_button(e.code, e.action, e.mods); break;
+      case Input::Cursor: on_cursor(e.x, e.y); break;
+      case Input::Scroll: camera_.zoom(e.y); break;
+    }
+  }
+
+  // After a screenshot: the input that waited for it, in order, up to the next P.
+  void replay_deferred() {
+    while (!deferred_.empty() && !screenshot_request_) {
+      const Input e = deferred_.front();
+      deferred_.pop_front();
+      apply(e);
     }
   }
 
@@ -687,6 +723,7 @@ class Viewer {
   bool wireframe_ = false, show_springs_ = false, screenshot_request_ = false;
   bool dragging_ = false;
   bool interactive_ = false, show_overlay_ = true;
+  std::deque<Input> deferred_;  ///< input after a P whose screenshot is not taken yet
   std::string overlay_;
   view::StepRates last_rates_;
   double drag_depth_ = 0.0;
