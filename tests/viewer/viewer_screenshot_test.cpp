@@ -249,7 +249,7 @@ TEST(ViewerProbe, NonFiniteStateIsAnErrorNotAPicture) {
   EXPECT_EQ(w.code, 1) << w.output;
   EXPECT_NE(w.output.find("(state non-finite)"), std::string::npos) << w.output;
   // The look-ahead meets the blow-up ahead of the picture: the picture still plays the finite
-  // states up to it (it closed at once, with no frame of them), then the run fails.
+  // states up to it (not closing at once, with no frame of them), then the run fails.
   const std::size_t at = w.output.find(" frames in ");
   ASSERT_NE(at, std::string::npos) << w.output;
   const std::size_t from = w.output.rfind(' ', at - 1) + 1;
