@@ -162,7 +162,7 @@ TEST(Playback, FramesTakeALargerShareAsTheLookAheadFills) {
   EXPECT_NEAR(pb.frame_interval(0.0, f), f / 0.1, 1e-12);  // 10 % of the time when empty
   EXPECT_NEAR(pb.frame_interval(1.8, f), f / 0.46, 1e-9);  // 46 % at 9/10
   EXPECT_NEAR(pb.frame_interval(2.0 - 1e-9, f), f / 0.95, 1e-6);  // 95 % nearly full
-  // never fewer than 4 frames a second (a 45 ms software frame at 10 % was 0.45 s apart)
+  // never fewer than 4 frames a second (a 45 ms software frame at 10 % would be 0.45 s apart)
   EXPECT_EQ(pb.frame_interval(0.0, 0.045), cv::Playback::kMaxFrameInterval);
   EXPECT_EQ(pb.frame_interval(2.0, f), cv::Playback::kMinFrameInterval);  // full: 60 per second
   EXPECT_EQ(pb.frame_interval(1.0, 0.0), cv::Playback::kMinFrameInterval);  // free frames: 60 too

@@ -2,7 +2,8 @@
 // background and static meshes must be the same pixels as a frame drawn in full, from any
 // camera (also one below the floor, where the floor hides the cloth: the copy's depth), with the
 // cloth moved, in wireframe and at another size. Runs in-process in a GL 3.3 core window
-// under xvfb-run (tests/viewer/CMakeLists.txt); without a display it is skipped.
+// under xvfb-run (tests/viewer/CMakeLists.txt); without a display it is skipped, and a
+// display without a window fails.
 #include "hand_scene.hpp"
 
 #include "../../simulator/viewer/src/gl_scene.hpp"
@@ -20,6 +21,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace {
@@ -43,22 +45,31 @@ View view_from(double yaw, double pitch, double distance, int w = kW, int h = kH
 
 class StaticLayer : public ::testing::Test {
  protected:
+  // The window and its context; when there is a display but no window, trouble_ says why.
   static void SetUpTestSuite() {
     const char* display = std::getenv("DISPLAY");
-    if (!display || !*display || !glfwInit()) return;
+    if (!display || !*display) return;
+    glfwSetErrorCallback([](int code, const char* what) {
+      trouble_ = std::string(what ? what : "?") + " (GLFW error " + std::to_string(code) + ")";
+    });
+    trouble_ = "GLFW cannot start";
+    if (!glfwInit()) return;
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    trouble_ = "no GL 3.3 core window";
     window_ = glfwCreateWindow(kW, kH, "static_layer_test", nullptr, nullptr);
     if (!window_) return;
     glfwMakeContextCurrent(window_);
     glewExperimental = GL_TRUE;
     if (glewInit() != GLEW_OK) {
+      trouble_ = "GLEW cannot load OpenGL";
       glfwDestroyWindow(window_);
       window_ = nullptr;
       return;
     }
+    trouble_.clear();
     while (glGetError() != GL_NO_ERROR) {}
   }
   static void TearDownTestSuite() {
@@ -68,7 +79,9 @@ class StaticLayer : public ::testing::Test {
   }
 
   void SetUp() override {
-    if (!window_) GTEST_SKIP() << "no display or no GL 3.3 core context (run under xvfb-run)";
+    // No display: skipped; a display without a window is a failure (the X server's or GL's).
+    if (!window_ && trouble_.empty()) GTEST_SKIP() << "no DISPLAY (run under xvfb-run)";
+    ASSERT_NE(window_, nullptr) << "DISPLAY=" << std::getenv("DISPLAY") << ": " << trouble_;
     hand_ = std::make_unique<HandScene>();
     model_ = std::make_unique<clothsim::Model>(
         clothsim::build_model(hand_->scene, clothsim::scene_options(hand_->scene)));
@@ -117,6 +130,7 @@ class StaticLayer : public ::testing::Test {
   }
 
   static GLFWwindow* window_;
+  static std::string trouble_;
   std::unique_ptr<HandScene> hand_;
   std::unique_ptr<clothsim::Model> model_;
   std::unique_ptr<clothsim::State> state_;
@@ -124,6 +138,7 @@ class StaticLayer : public ::testing::Test {
   std::unique_ptr<clothsim::view::GlScene> gpu_;
 };
 GLFWwindow* StaticLayer::window_ = nullptr;
+std::string StaticLayer::trouble_;
 
 TEST_F(StaticLayer, FramesFromTheLayerAreTheFullDrawsPixels) {
   const View above = view_from(0.6, 0.7, 2.6);

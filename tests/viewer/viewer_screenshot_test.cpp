@@ -1,6 +1,8 @@
 // Screenshots by the real viewer under Xvfb: the probe (a hand-made scene through the real
 // scene adapter, core and viewer) and, when built, the clothsim programs of the baked scenes.
 // Run as: xvfb-run -a viewer_screenshot_test --probe=PATH [--program=NAME=PATH ...] --out=DIR
+#include "window_driver.hpp"
+
 #include <gtest/gtest.h>
 
 #include <stb/stb_image.h>
@@ -21,28 +23,15 @@
 #include <vector>
 
 namespace fs = std::filesystem;
+using viewer_test::q;
+using viewer_test::Result;
+using viewer_test::run;
 
 namespace {
 
 std::string g_probe;
 std::vector<std::pair<std::string, std::string>> g_programs;  // name, path
 fs::path g_out = "viewer_shots";
-
-struct Result {
-  int code = -1;
-  std::string output;  // stdout + stderr
-};
-
-Result run(const std::string& command) {
-  Result r;
-  FILE* p = popen((command + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  std::array<char, 512> buf{};
-  while (fgets(buf.data(), buf.size(), p)) r.output += buf.data();
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
 
 struct Image {
   int w = 0, h = 0;
@@ -108,13 +97,6 @@ fs::path out(const std::string& name) {
   const fs::path p = g_out / name;
   fs::remove_all(p);
   return p;
-}
-
-// Quoted for the shell. (Built with append: GCC 12's -Wrestrict misfires on "'" + s + "'".)
-std::string q(const fs::path& p) {
-  std::string s(1, '\'');
-  s.append(p.string()).push_back('\'');
-  return s;
 }
 
 }  // namespace
@@ -267,7 +249,7 @@ TEST(ViewerProbe, NonFiniteStateIsAnErrorNotAPicture) {
   EXPECT_EQ(w.code, 1) << w.output;
   EXPECT_NE(w.output.find("(state non-finite)"), std::string::npos) << w.output;
   // The look-ahead meets the blow-up ahead of the picture: the picture still plays the finite
-  // states up to it (it closed at once, with no frame of them), then the run fails.
+  // states up to it (not closing at once, with no frame of them), then the run fails.
   const std::size_t at = w.output.find(" frames in ");
   ASSERT_NE(at, std::string::npos) << w.output;
   const std::size_t from = w.output.rfind(' ', at - 1) + 1;
@@ -299,10 +281,9 @@ TEST(ViewerProbe, WindowRunsInRealTimeUntilTheRequestedTimeAndClosesCleanly) {
   EXPECT_NE(tight.output.find("closed at t = 0.31 s after 31 steps"), std::string::npos) << tight.output;
 }
 
-// Keys and mouse through the X server to a visible window (xdotool: keys sent to the window
-// itself, so they do not depend on focus; the pointer through XTEST): N twice while
-// paused, S (springs), a left drag that grabs the cloth, P while dragging (before the steps pull
-// the point to the cursor), then Q.
+// Keys and mouse through the X server to the focused window: N twice while paused, S
+// (springs), a left drag that grabs the cloth, P while dragging (before the steps pull the
+// point to the cursor), then H, P and Q. Each P's picture shows the input before it only.
 TEST(ViewerProbe, KeysAndDragReachTheWindow) {
   if (run("command -v xdotool").code != 0) GTEST_SKIP() << "xdotool not installed (cmake/install-deps.sh)";
   // Where the cloth is at t = 0 in a 320x240 picture (the window shows the same view).
@@ -325,15 +306,18 @@ TEST(ViewerProbe, KeysAndDragReachTheWindow) {
 
   const fs::path dir = out("keys");
   fs::create_directories(dir);
-  const std::string xdo = "timeout 30 xdotool search --sync --onlyvisible --name '^clothsim keystest ' "
-                          "mousemove --window %1 " + std::to_string(cx) + " " + std::to_string(cy) +
-                          " mousedown 1 mousemove --window %1 " + std::to_string(cx + 40) + " " +
-                          std::to_string(cy - 30) + " key --window %1 s key --window %1 p key --window %1 n key --window %1 n mouseup 1 getwindowname %1"
-                          " key --window %1 h key --window %1 p key --window %1 q";
-  const Result r = run("cd " + q(dir) + " && (timeout 30 " + q(g_probe) +
-                       " --name keystest --width 320 --height 240 --paused --flat-cloth & pid=$!; " + xdo +
-                       "; wait $pid; echo \"probe exit $?\")");
-  EXPECT_NE(r.output.find("probe exit 0"), std::string::npos) << r.output;
+  viewer_test::Program probe({g_probe, "--name", "keystest", "--width", "320", "--height", "240", "--paused",
+                              "--flat-cloth"}, dir);
+  std::string id, title;
+  ASSERT_EQ(viewer_test::wait_for_window(probe, "^clothsim keystest ", id), "");
+  ASSERT_EQ(viewer_test::focus_window(probe, id), "");
+  const auto move = [&](long x, long y) { return "mousemove --window " + id + ' ' + std::to_string(x) + ' ' + std::to_string(y); };
+  ASSERT_EQ(viewer_test::xdo(move(cx, cy) + " mousedown 1 " + move(cx + 40, cy - 30) + " key s p n n mouseup 1"), "");
+  ASSERT_EQ(viewer_test::xdo("getwindowname " + id, &title), "");
+  ASSERT_EQ(viewer_test::xdo("key h p q"), "");
+  Result r = probe.wait(30.0);
+  r.output += title;
+  EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("after 2 steps"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("wrote clothsim_0000.png"), std::string::npos) << r.output;
   // The title: scene, time, rates, state and the keys.
@@ -366,22 +350,22 @@ TEST(ViewerProbe, KeysAndDragReachTheWindow) {
   EXPECT_EQ(white_on_top(hidden), 0) << "H did not hide the overlay";
 }
 
-// DISABLED: flaky under Xvfb without a window manager (about 1 run in 10 a key sent right
-// after the resize is lost, even when waiting for the new size in the title). It passes when
-// run by hand (--gtest_also_run_disabled_tests); the resize path is also covered by the
-// offscreen size tests. To do: a reliable synchronisation point.
-TEST(ViewerProbe, DISABLED_ResizingTheWindowResizesThePicture) {
+// A window made larger by the X server (as a window manager would): the picture takes the new
+// size, which the title shows once the viewer has it.
+TEST(ViewerProbe, ResizingTheWindowResizesThePicture) {
   if (run("command -v xdotool").code != 0) GTEST_SKIP() << "xdotool not installed (cmake/install-deps.sh)";
   const fs::path dir = out("resize");
   fs::create_directories(dir);
-  const Result r = run("cd " + q(dir) + " && (timeout 30 " + q(g_probe) +
-                       " --name resizetest --width 320 --height 240 --paused --flat-cloth & pid=$!; "
-                       "timeout 30 xdotool search --sync "
-                       "--onlyvisible --name '^clothsim resizetest ' windowsize %1 480 200 "
-                       "search --sync --onlyvisible --name '^clothsim resizetest [|] 480x200 ' "
-                       "key --window %1 p key --window %1 q"
-                       "; wait $pid; echo \"probe exit $?\")");
-  EXPECT_NE(r.output.find("probe exit 0"), std::string::npos) << r.output;
+  viewer_test::Program probe({g_probe, "--name", "resizetest", "--width", "320", "--height", "240", "--paused",
+                              "--flat-cloth"}, dir);
+  std::string id, resized;
+  ASSERT_EQ(viewer_test::wait_for_window(probe, "^clothsim resizetest ", id), "");
+  ASSERT_EQ(viewer_test::focus_window(probe, id), "");
+  ASSERT_EQ(viewer_test::xdo("windowsize " + id + " 480 200"), "");
+  ASSERT_EQ(viewer_test::wait_for_window(probe, "^clothsim resizetest [|] 480x200 ", resized), "");
+  ASSERT_EQ(viewer_test::xdo("key p q"), "");
+  const Result r = probe.wait(30.0);
+  EXPECT_EQ(r.code, 0) << r.output;
   const Image shot = load(dir / "clothsim_0000.png");
   ASSERT_TRUE(shot.ok()) << r.output;
   EXPECT_EQ(shot.w, 480);
@@ -416,9 +400,7 @@ TEST_P(RealProgram, ScreenshotsShowTheClothMoving) {
 TEST_P(RealProgram, WindowCountsStepsOfDtWhenSubstepping) {
   // The closing line counts steps of the user's dt, as the headless summary does.
   const auto& [name, path] = GetParam();
-  // Its own X server: a visible window on the shared one was closed at once after the key
-  // test had run there (a key state left behind, it seems; the hidden windows are not affected).
-  const Result r = run("xvfb-run -a " + q(path) + " --width 320 --height 180 --no-vsync --substeps 2 --steps 10");
+  const Result r = run(q(path) + " --width 320 --height 180 --no-vsync --substeps 2 --steps 10");
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("after 10 steps of 2 substeps each"), std::string::npos) << name << ": " << r.output;
 }

@@ -58,8 +58,8 @@ void OrbitCamera::pan(double dx, double dy, int viewport_h) {
 
 void OrbitCamera::zoom(double wheel_steps) {
   const double scale = std::pow(0.88, wheel_steps);
-  // The far plane keeps its depth beyond the target (zoomed far out, the scene used to fall
-  // behind it and the picture went blank).
+  // The far plane keeps its depth beyond the target (else, zoomed far out, the scene falls
+  // behind it and the picture is blank).
   far_plane += distance * (scale - 1.0);
   distance *= scale;
   near_plane *= scale;

@@ -27,10 +27,11 @@ long StepClock::steps_due(double elapsed_wall, double step_cost) {
   accumulator_ += std::min(elapsed_wall, kMaxFrameGap);
   const long due = static_cast<long>(std::floor(accumulator_ / dt_ + 1e-9));
   if (!(step_cost > 0.0)) {
-    // The cost not yet measured: one step, which the caller times (the first frame's backlog
-    // on a loaded machine froze the window for seconds before any step was timed). The rest
-    // stays owed, for the next frame to take within max_work_per_frame: it is the first
-    // frame's time, not a machine too slow, and dropping it lost that time in every run.
+    // The cost not yet measured: one step, which the caller times (the first frame's whole
+    // backlog, on a loaded machine, would freeze the window for seconds before any step is
+    // timed). The rest stays owed, for the next frame to take within max_work_per_frame: it is
+    // the first frame's time, not a machine too slow, and dropping it would lose that time in
+    // every run.
     const long n = std::min(due, 1L);
     behind_ = false;
     accumulator_ = std::max(accumulator_ - static_cast<double>(n) * dt_, 0.0);

@@ -19,6 +19,7 @@ struct ViewerOptions {
   int fps = 30;
   double seconds = -1.0;        ///< simulated seconds for screenshot/frames; in the window: close at
                                 ///< this simulated time (real-time pace); < 0: run until closed
+  // --- test modes, start toggles and how the window runs ---
   bool flat_cloth = false;      ///< test mode: cloth drawn unlit in kFlatClothRgb, no texture
   bool hide_cloth = false;      ///< test mode: draw the colliders only
   bool show_springs = false;    ///< start with springs shown (key S toggles)
