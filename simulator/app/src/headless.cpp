@@ -81,6 +81,7 @@ int run_headless(const RunConfig& c, const b2o::Scene& scene, const Plan& p, Run
     }
     r.done = i + 1;
     r.t_done = r.state.t;
+    r.max_strain = std::max(r.max_strain, max_strain(model, r.state.x));
     if (exporting && r.done % c.export_every == 0)
       if (const std::string err = export_obj(c.export_dir, scene, model, r.state, r.done, c.options.dt); !err.empty()) {
         progress.finish();

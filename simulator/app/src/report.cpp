@@ -125,6 +125,7 @@ json report_json(const RunConfig& c, const Plan& p, const RunResult& r, const Ou
   j["max_penetration_reach"] = o.reach;                    // 2 eps: deeper is not seen
   j["max_penetration_past_eps"] = o.past_eps;              // true: masses may be deeper or through
   j["kinetic_energy"] = number(o.kinetic);
+  j["max_strain"] = number(r.max_strain);  // the largest structural strain after any step of dt
   j["stable_dt_estimate"] = number(omega > 0 ? 2.0 / omega : std::numeric_limits<double>::infinity());
   j["options"] = options_json(c.options);
   j["threads"] = r.auto_threads ? json("auto") : json(r.threads);
@@ -140,7 +141,8 @@ void print_summary(const RunConfig& c, const Plan& p, const RunResult& r, const 
             << (o.past_eps ? " (behind a surface, as far as the search reaches: 2 eps = " + fmt(o.reach) +
                                  " m; past eps the contact lets go, masses may be deeper or through)"
                            : std::string())
-            << ", kinetic energy " << o.kinetic << " J, cloth y " << o.lo.y() << " .. " << o.hi.y() << "\n";
+            << ", kinetic energy " << o.kinetic << " J, cloth y " << o.lo.y() << " .. " << o.hi.y()
+            << ", max strain " << fmt(100.0 * r.max_strain) << " %\n";
   if (r.auto_threads && r.cores > 1 && r.steps_one + r.steps_many > 0) {
     const double share = static_cast<double>(r.steps_many) / static_cast<double>(r.steps_one + r.steps_many);
     char pct[32];

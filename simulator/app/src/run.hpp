@@ -40,6 +40,7 @@ struct RunResult {
   std::uint64_t timed = 0;        ///< steps of dt timed (the failed one included)
   std::uint64_t failed_step = 0;  ///< the step of dt (1-based) in which the state became non-finite
   double t_done = 0.0;            ///< s simulated after the last completed step
+  double max_strain = 0.0;        ///< the largest structural strain after any step of dt
   double ms_per_step = 0.0, cpu_ms_per_step = 0.0;  ///< per step of dt, its substeps included
   // threads: auto (steps with one and with `cores` threads), or the fixed count
   bool auto_threads = false;

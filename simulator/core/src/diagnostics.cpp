@@ -14,6 +14,16 @@ double kinetic_energy(const Model& model, const State& state) {
   return e;
 }
 
+double max_strain(const Model& model, const Eigen::Matrix3Xd& x) {
+  double worst = 0.0;
+  for (std::size_t s = 0; s < model.spring_count(); ++s) {
+    const double rest = model.rest_length0[static_cast<Eigen::Index>(s)];
+    if (model.spring_kind[s] != 0 || !(rest > 0.0)) continue;
+    worst = std::max(worst, (x.col(model.spring_a[s]) - x.col(model.spring_b[s])).norm() / rest - 1.0);
+  }
+  return worst;
+}
+
 double gershgorin_omega_max(const Model& model) {
   const std::size_t n = model.mass_count();
   std::vector<double> ksum(n, model.colliders ? model.options.k_rep : 0.0);

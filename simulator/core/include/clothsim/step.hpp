@@ -114,6 +114,10 @@ int core_count();
 /// 1/2 sum m |v|^2 over the free masses, J.
 double kinetic_energy(const Model& model, const State& state);
 
+/// The largest strain of a structural spring at positions x, |x_a - x_b| / rest - 1 (0 for a
+/// model without structural springs): how far the cloth is stretched.
+double max_strain(const Model& model, const Eigen::Matrix3Xd& x);
+
 /// Gershgorin bound on the highest angular frequency of the linearised system, rad/s:
 /// omega_max^2 <= 2 max_i (sum_j k_ij + k_contact) / m_i, with k_contact = k_rep when the
 /// model has colliders. Symplectic Euler is stable for dt < 2 / omega_max.
