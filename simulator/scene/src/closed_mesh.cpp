@@ -98,7 +98,7 @@ LaunchCount count_launched(const ColliderSet& set, std::size_t o, const Eigen::M
     if (!pinned.empty() && pinned[static_cast<std::size_t>(i)]) continue;  // held: not thrown
     const Eigen::Vector3d p = points.col(i);
     if (!p.allFinite()) continue;
-    // object o alone (all objects per object was objects^2 work)
+    // object o alone (all objects per object would be objects^2 work)
     const ColliderHit hit = set.query_object(o, p.data(), eps * eps, QueryMethod::Bvh, -1);
     if (!hit.valid()) continue;
     // signed as the force sees it: outside beside a sharp ridge is outside
