@@ -154,7 +154,7 @@ std::vector<std::string> collider_warnings(const Model& model, double work_budge
                     " edges used twice the same way): the cloth is pushed into it where they point inwards; fix "
                     "the export (Blender: Recalculate Outside)");
     // Masses that start deep in the contact band are thrown out of it at once (an epsilon as
-    // large as the scene, a cloth placed just above a floor): a dice cloth at --epsilon 3 flew
+    // large as the scene, a cloth placed just above a floor): a dice cloth at --epsilon 3 flies
     // 100 m up, a 1 cm cloth with the default 0.1 m band 7 km.
     {
       const double g = gravity(model.options).norm();
