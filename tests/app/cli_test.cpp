@@ -422,7 +422,7 @@ TEST(Cli, ExportObjWritesEveryKSteps) {
   EXPECT_EQ(files, 5);  // steps 0, 5, 10, 15, 20
   EXPECT_TRUE(fs::exists(d / "frames" / "dice_000020.obj"));
   // positions exactly: at step 0 every coordinate is the model's float, read back bit for bit
-  // (6 significant digits wrote 0.0182616 for 0.018261615244430603)
+  // (6 significant digits would write 0.0182616 for 0.018261615244430603)
   std::ifstream in(d / "frames" / "dice_000000.obj");
   int checked = 0;
   for (std::string l; std::getline(in, l);)

@@ -126,7 +126,7 @@ int main(int argc, char** argv) {
   bool fast = false;
   double horizon = 0.0;
   int levels = 0, repeats = -1;
-  // A finite number > 0 (CLI11's PositiveNumber let nan through, and printed its range as 0 to
+  // A finite number > 0 (CLI11's PositiveNumber lets nan through, and prints its range as 0 to
   // a 309-digit number).
   const auto finite_positive = CLI::Validator(
       [](std::string& text) -> std::string {
