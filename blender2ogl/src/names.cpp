@@ -27,7 +27,7 @@ constexpr std::array<std::string_view, 107> kReserved = {
 
 // The object-like macros of <cstdint> (the generated header includes it): INT32_MAX,
 // SIZE_MAX, UINT_LEAST8_MAX, PTRDIFF_WIDTH (glibc defines the *_WIDTH ones in the GNU
-// dialects), ... An object or scene of that name made `inline constexpr std::uint32_t
+// dialects), ... An object or scene of that name would make `inline constexpr std::uint32_t
 // SIZE_MAX = ...`, which does not compile. (The function-like INT8_C ... expand only before '('.)
 bool stdint_macro(std::string_view id) {
   const auto cut = [&](std::string_view prefix) {

@@ -77,7 +77,7 @@ TEST(AppParams, ABakedGravityVectorIsShownAndItsReplacementSaid) {
 namespace {
 
 // A scene baked without CLOTH (every object a collider; blender2ogl_add_scene allows it):
-// nothing moves, and a run says so and ends cleanly (it crashed in the start-up checks).
+// nothing moves, and a run (its start-up checks too) says so and ends cleanly.
 TEST(AppParams, ASceneWithoutClothRunsAndSaysSo) {
   clothsim::testing::HandScene hand(6);
   hand.objects[0].cloth = b2o::kNone;

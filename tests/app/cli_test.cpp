@@ -63,13 +63,13 @@ TEST(Cli, BadValuesExitTwoWithAMessageAndWriteNothing) {
     EXPECT_FALSE(fs::exists(report)) << c.args;
   }
   EXPECT_TRUE(fs::is_empty(d));
-  // spaces around a number, at either end, are read alike ('0.005 ' was "Could not convert")
+  // spaces around a number, at either end, are read alike ('0.005 ' is no "Could not convert")
   for (const char* dt : {"' 0.005'", "'0.005 '", "' 0.005\t'"})
     EXPECT_EQ(run(std::string("--headless --quiet --steps 1 --dt ") + dt).code, 0) << dt;
 }
 
 // Runs that would never end are refused before they start (exit 2, one line, the count):
-// a tiny --dt (1e30 steps), a count above 2^64 (CLI11 read it as 2^64-1), substeps on top.
+// a tiny --dt (1e30 steps), a count above 2^64 (CLI11 reads it as 2^64-1), substeps on top.
 TEST(Cli, AbsurdStepCountsAreRefusedAtOnce) {
   struct Case {
     const char* args;
@@ -102,7 +102,7 @@ TEST(Cli, AbsurdStepCountsAreRefusedAtOnce) {
   }
 }
 
-// The range message is readable (it used to print DBL_MAX in 309 digits).
+// The range message is readable (not DBL_MAX in 309 digits).
 TEST(Cli, ExportEveryZeroSaysAtLeastOne) {
   const Result r = run("--headless --quiet --steps 5 --export-every 0");
   EXPECT_EQ(r.code, 2) << r.output;
@@ -148,7 +148,7 @@ TEST(Cli, ReportIntoAMissingFolderIsRefusedBeforeRunning) {
 }
 
 // A directory named as the report: refused before the run (exit 2), whichever way it is
-// spelled, and left as it was (it used to exit 0 with no report and no word).
+// spelled, and left as it is (not exit 0 with no report and no word).
 TEST(Cli, ReportIntoADirectoryIsRefusedBeforeRunning) {
   const fs::path d = fresh_dir("report_dir");
   fs::create_directory(d / "somedir");
@@ -185,8 +185,8 @@ TEST(Cli, ReportIntoAFullDeviceIsAnIoError) {
   EXPECT_EQ(entries(d), 1);
 }
 
-// A write that fails (a file size limit of 0 blocks: EFBIG, and SIGXFSZ, which used to kill
-// the program) is reported; the old report stays and no temporary file is left.
+// A write that fails (a file size limit of 0 blocks: EFBIG, and SIGXFSZ, which would kill the
+// program) is reported; the old report stays and no temporary file is left.
 TEST(Cli, FailedReportWriteKeepsTheOldReport) {
   const fs::path d = fresh_dir("report_efbig");
   { std::ofstream(d / "r.json") << "old\n"; }
@@ -220,7 +220,7 @@ TEST(Cli, ReportHasTheKeys) {
   EXPECT_GE(j["max_penetration"].get<double>(), 0.0);
   EXPECT_GT(j["kinetic_energy"].get<double>(), 0.0);  // the dice are falling at t = 0.5 s
   EXPECT_GE(j["ms_per_step"].get<double>(), 0.0);
-  // nothing but the report in the folder (the temp file was renamed)
+  // nothing but the report in the folder (the temp file is renamed)
   EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator{}), 1);
 }
 
@@ -286,8 +286,8 @@ TEST(Cli, AFileOutputAmongTheExportedFilesIsRefused) {
   }
 }
 
-// A finite state whose kinetic energy overflows a double ended with exit 0, the summary saying
-// "inf J" and the report null: a failure (exit 1) that says why, in the report's warnings too.
+// A finite state whose kinetic energy overflows a double (the summary would say "inf J", the
+// report null): a failure (exit 1) that says why, in the report's warnings too.
 TEST(Cli, KineticEnergyOverflowIsAFailure) {
   const fs::path d = fresh_dir("ke_overflow");
   const Result r = run("--headless --seconds 1 --mass 1e306 --report " + q(d / "r.json"));
@@ -300,7 +300,7 @@ TEST(Cli, KineticEnergyOverflowIsAFailure) {
 }
 
 // fast-mass-spring and XPBD take velocities from position differences: a step whose motion
-// g h^2 is near the positions' rounding gives velocities of rounding (XPBD at dt 1e-15 lost
+// g h^2 is near the positions' rounding gives velocities of rounding (XPBD at dt 1e-15 loses
 // gravity): warned, with the smallest sound step; a sound step is not warned.
 TEST(Cli, PositionBasedMethodsWarnOfStepsBelowThePositionsRounding) {
   for (const char* method : {"fast-mass-spring", "xpbd"}) {
@@ -339,8 +339,7 @@ TEST(Cli, ThreadsAutoOrACountReachTheReport) {
   }
 }
 
-// docs/scenes.md documents every field the report has (it used to omit dt_stable, omega_max,
-// substeps, integrator and tunnelling_warning), the options' fields too.
+// docs/scenes.md documents every field the report has, the options' fields too.
 TEST(Cli, EveryReportFieldIsDocumented) {
   const fs::path d = fresh_dir("report_doc");
   // a blow-up, so that failed_step is there too
@@ -423,7 +422,7 @@ TEST(Cli, ExportObjWritesEveryKSteps) {
   EXPECT_EQ(files, 5);  // steps 0, 5, 10, 15, 20
   EXPECT_TRUE(fs::exists(d / "frames" / "dice_000020.obj"));
   // positions exactly: at step 0 every coordinate is the model's float, read back bit for bit
-  // (6 significant digits wrote 0.0182616 for 0.018261615244430603)
+  // (6 significant digits would write 0.0182616 for 0.018261615244430603)
   std::ifstream in(d / "frames" / "dice_000000.obj");
   int checked = 0;
   for (std::string l; std::getline(in, l);)
@@ -477,8 +476,8 @@ TEST(Cli, ScreenshotOrFramesPathsAreCheckedBeforeRunning) {
   EXPECT_EQ(entries(d), 2);
 }
 
-// --headless has no viewer to render with: --screenshot/--frames used to exit 0 with no
-// picture and no word. Refused (exit 2), nothing written.
+// --headless has no viewer to render with: --screenshot/--frames are refused (exit 2) rather
+// than exit 0 with no picture; nothing written.
 TEST(Cli, HeadlessScreenshotOrFramesIsRefused) {
   const fs::path d = fresh_dir("headless_shot");
   const Result shot = run("--headless --quiet --steps 5 --screenshot " + q(d / "x.png"));
@@ -502,7 +501,7 @@ TEST(Cli, UnstableIntegratorMessageTellsTheTruthAboutDamping) {
   const Result none = run("--headless --quiet --steps 5 --integrator explicit-euler --damping 0");
   EXPECT_EQ(none.code, 2) << none.output;
   EXPECT_NE(none.output.find("(damping 0)"), std::string::npos) << none.output;
-  // a stiffness whose k / m overflows: refused as well (it ran, Lanczos saying 0 rad/s)
+  // a stiffness whose k / m overflows: refused as well (Lanczos would say 0 rad/s)
   for (const char* k : {"1e305", "1e308"}) {
     const Result stiff = run(std::string("--headless --quiet --steps 5 --k-struct ") + k);
     EXPECT_EQ(stiff.code, 2) << k << ": " << stiff.output;
@@ -515,8 +514,8 @@ TEST(Cli, UnstableIntegratorMessageTellsTheTruthAboutDamping) {
 }
 
 // dice: dt_stable 0.01255 s, safe step 0.9 x that = 0.0113 s. dt 0.012 is below dt_stable but
-// above the safe step: auto takes 2 substeps and says so truthfully; off refuses (it used to
-// run while the note claimed "exceeds dt_stable ... --substeps off to refuse instead").
+// above the safe step: auto takes 2 substeps and says so truthfully; off refuses, as the note
+// says ("--substeps off to refuse instead").
 TEST(Cli, SubstepNoteAndOffAgree) {
   const Result a = run("--headless --steps 3 --dt 0.012");
   EXPECT_EQ(a.code, 0) << a.output;
@@ -535,8 +534,8 @@ TEST(Cli, SubstepNoteAndOffAgree) {
 }
 
 // Steps are the user's steps of dt everywhere: the console, the report and the OBJ file
-// numbers (they used to count substeps: "6 steps", drape_000600.obj at t = 3 s); the substeps
-// are reported separately.
+// numbers (not substeps: "6 steps", drape_000600.obj at t = 3 s); the substeps are reported
+// separately.
 TEST(Cli, StepsCountStepsOfDtWhenSubstepping) {
   const fs::path d = fresh_dir("substep_counts");
   const Result r = run("--headless --steps 20 --dt 0.012 --export-every 5 --export-obj " + q(d / "frames") +
@@ -567,8 +566,8 @@ TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {
   EXPECT_EQ(j["finite"], false);
   EXPECT_LT(j["steps"].get<int>(), 2000);  // stopped at once, not after 1000 s
   EXPECT_GT(j["stable_dt_estimate"].get<double>(), 0.0);
-  // the report agrees with itself: the time of the steps that completed (it counted the
-  // failed one too), and no box around a non-finite state
+  // the report agrees with itself: the time of the steps that completed (not the failed one),
+  // and no box around a non-finite state
   EXPECT_DOUBLE_EQ(j["seconds_simulated"].get<double>(), j["steps"].get<int>() * 0.5);
   EXPECT_EQ(j["failed_step"].get<int>(), j["steps"].get<int>() + 1);
   EXPECT_TRUE(j["cloth_min"][1].is_null()) << j["cloth_min"];
@@ -584,7 +583,7 @@ TEST(Cli, BlowUpReportsFiniteFalseAndExitsOne) {
 }
 
 // An epsilon as large as the scene puts every mass deep in the floor's band: warned (the
-// cloth flew 100 m up without a word), also under --quiet, and listed in the report.
+// cloth flies 100 m up), also under --quiet, and listed in the report.
 TEST(Cli, MassesThrownOutOfTheBandAreWarned) {
   const fs::path d = fresh_dir("band_launch");
   const Result r = run("--headless --quiet --steps 2 --epsilon 3 --report " + q(d / "r.json"));
@@ -596,9 +595,9 @@ TEST(Cli, MassesThrownOutOfTheBandAreWarned) {
   EXPECT_EQ(run("--headless --quiet --steps 2").output, "");  // the scene as baked: no warning
 }
 
-// The viewer's options without a viewer, and --fps without --frames, did nothing silently:
-// bad input, as --export-every without --export-obj is. A screenshot is a PNG whatever its
-// name said (a.jpg held PNG bytes): the name must say .png.
+// The viewer's options without a viewer, and --fps without --frames, would do nothing: bad
+// input, as --export-every without --export-obj is. A screenshot is a PNG whatever its name
+// says (a.jpg would hold PNG bytes): the name must say .png.
 TEST(Cli, ViewerOptionsThatWouldDoNothingAreBadInput) {
   const fs::path d = fresh_dir("viewer_options");
   for (const char* args : {"--headless --fps 10", "--headless --width 100", "--headless --height 100",
@@ -610,7 +609,7 @@ TEST(Cli, ViewerOptionsThatWouldDoNothingAreBadInput) {
     EXPECT_EQ(lines(r.output), 1) << r.output;
   }
   // --frames records up to --seconds (or --steps): without either it is an option mistake, found
-  // before the model is built (it exited 1 after the stability analysis)
+  // before the model is built (not exit 1 after the stability analysis)
   const Result frames = run("--frames " + q(d / "f"));
   EXPECT_EQ(frames.code, 2) << frames.output;
   EXPECT_NE(frames.output.find("error: --frames needs --seconds T"), std::string::npos) << frames.output;
@@ -633,7 +632,7 @@ TEST(Cli, ViewerOptionsThatWouldDoNothingAreBadInput) {
 
 #ifdef CLOTHSIM_HANGING_EXE
 // The report counts the pinned masses, so a user can see that a `<cloth>_pins` helper's pins
-// landed (the hanging cloth: two corners, from its Cloth_pins helper; stop 24).
+// landed (the hanging cloth: two corners, from its Cloth_pins helper).
 TEST(Cli, ReportCountsThePinnedMasses) {
   const fs::path d = fresh_dir("report_pins");
   const std::string cmd = std::string(CLOTHSIM_HANGING_EXE) + " --headless --quiet --steps 2 --report '" +

@@ -174,8 +174,8 @@ TEST(Bake, PinHelperTooFarIsAnError) {
   }
 }
 
-// -m merges the objects into one: a pin helper whose object was merged away is ignored with
-// a warning (the whole bake failed: "names no object 'Cloth'"; stop 24); with one object
+// -m merges the objects into one: a pin helper whose object is merged away is ignored with
+// a warning (the bake does not fail with "names no object 'Cloth'"); with one object
 // (nothing merged) it still pins.
 TEST(Bake, MergedModelIgnoresItsPinHelper) {
   const auto dir = scratch("bake_pin_merged");
@@ -271,8 +271,8 @@ TEST(Bake, InwardOrInconsistentClosedCollidersAreWarned) {
 }
 
 // Blender writes object names with spaces as they are (`o My Cloth`); assimp alone keeps an
-// `o` name up to its first space, so "My Cloth" and "My Cloth_pins" both became "My" and the
-// pins went nowhere. Names are kept as the file writes them.
+// `o` name up to its first space, so "My Cloth" and "My Cloth_pins" would both become "My" and
+// the pins would go nowhere. Names are kept as the file writes them.
 TEST(Bake, ObjectNamesWithSpacesAreKeptWhole) {
   const auto dir = scratch("bake_space_names");
   write_file(dir / "m.obj",
@@ -325,7 +325,7 @@ TEST(Messages, QuoteInputClipsLongTextOnACharacterBoundary) {
 }
 
 // `CLOTH My Flag` unquoted in CMake passes `-a My`: the error names the object it was cut from
-// and says to quote it (stop 24).
+// and says to quote it.
 TEST(Bake, AClothNameCutAtItsSpaceIsNamedInTheError) {
   const auto dir = scratch("bake_unquoted");
   write_file(dir / "flag.obj", "o My Flag\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");

@@ -62,7 +62,7 @@ TEST(Cli, UsageErrorsExitTwo) {
                                              {"--param", "dt=", fixture("grid.obj").string()},
                                              {"--param", "dt=0 1", fixture("grid.obj").string()},
                                              {"--param", "dt=1", "--param", "dt=2", fixture("grid.obj").string()},
-                                             // one value each: given twice, the last silently won
+                                             // one value each: given twice is an error
                                              {"-t", "a", "-t", "b", fixture("grid.obj").string()},
                                              {"-n", "a", "-n", "b", fixture("grid.obj").string()},
                                              {"-c", "-s", fixture("grid.obj").string()},
@@ -111,8 +111,8 @@ TEST(Cli, HelpVersionAndStatistics) {
   EXPECT_EQ(bins, 1);
 }
 
-// The new-user case: Blender's `o My Cloth` + `o My Cloth_pins`; `-a "My Cloth"` selects it
-// and the helper pins it (it used to give "0 pins, warnings 0").
+// Blender's `o My Cloth` + `o My Cloth_pins`: `-a "My Cloth"` selects it
+// and the helper pins it (never "0 pins, warnings 0").
 TEST(Cli, ObjectNamesWithSpacesSelectAndPin) {
   const auto dir = scratch("cli_space_names");
   write_file(dir / "m.obj", "o My Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n"
@@ -201,8 +201,8 @@ TEST(Cli, MissingMtlAndTextureAreErrorsUnlessAllowed) {
   EXPECT_NE(run_converter({"--help"}).output.find("--allow-missing"), std::string::npos);
 }
 
-// Found by fuzzing: assimp reads <model>.mtl when the named library is missing, and ends a
-// line at a lone '\r'; both would let text reach assimp unchecked.
+// assimp reads <model>.mtl when the named library is missing, and ends a line at a lone '\r';
+// both would let text reach assimp unchecked.
 TEST(Cli, FallbackMtlAndLoneCarriageReturnAreChecked) {
   const auto dir = scratch("cli_fallback");
   write_file(dir / "b.obj", "mtllib gone.mtl\no Cloth\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl M\nf 1 2 3\n");
@@ -270,7 +270,7 @@ TEST(Cli, DepfileFailureChangesNothing) {
 }
 
 // -n is used as given or refused (exit 2, nothing written): a build asking for NAME.h would not
-// find the files of a cleaned name (class_.h), and a namespace b2o::gen::std hid ::std.
+// find the files of a cleaned name (class_.h), and a namespace b2o::gen::std hides ::std.
 TEST(Cli, SceneNameThatWouldChangeIsRefused) {
   const auto dir = scratch("cli_bad_name");
   write_file(dir / "m.obj", kTriangle);
@@ -338,7 +338,7 @@ TEST(Cli, CharacterDeviceOutputIsWrittenIntoNotReplaced) {
 // An output that is one of the inputs (the model, its .mtl, a texture), by name or through a
 // link, is refused before anything is written.
 // The model named without a folder (run from its folder) and no -t: the outputs and the
-// depfile go next to it (a depfile used to fail: "cannot make absolute path").
+// depfile go next to it (no "cannot make absolute path" for the depfile).
 TEST(Cli, BareModelNameWithDepfile) {
   const auto dir = scratch("cli_bare_depfile");
   write_file(dir / "m.obj", "o Cloth\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
@@ -450,9 +450,9 @@ TEST(Cli, RepeatedObjectNamesNeverMoveGeometry) {
 }
 
 
-// Text that passed the pre-scan and then failed in assimp without a line (or blaming the .obj
-// for its .mtl) is refused by the pre-scan with file:line; a trailing comment on a v/f line is
-// accepted (assimp gets the line without it).
+// Text on which assimp fails without a line (or blames the .obj for its .mtl) is refused by
+// the pre-scan with file:line; a trailing comment on a v/f line is accepted (assimp gets the
+// line without it).
 TEST(Cli, StatementsAssimpMisreadsAreRefusedWithTheirLine) {
   const auto dir = scratch("cli_assimp_misreads");
   const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";

@@ -33,7 +33,7 @@ std::vector<Input> inputs() {
       {fixture("odd_names.obj"), "odd_text", {}, true, true, {}},
       {fixture("missing_tex.obj"), "int", {"Sheet"}, false, false, {}},  // a keyword as scene name
       // <cstdint>'s macros as object and scene names, a trigraph and UTF-8 in the comments'
-      // names, and two scenes whose names differ in case only (their include guards did not)
+      // names, and two scenes whose names differ in case only (their include guards differ too)
       {fixture("macro_names.obj"), "INT64_MAX", {}, true, false, {}},
       {fixture("macro_names.obj"), "ab", {}, false, false, {}},
       {fixture("macro_names.obj"), "Ab", {}, false, false, {}},

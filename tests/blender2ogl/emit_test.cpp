@@ -73,7 +73,7 @@ TEST(Emit, DeterministicAcrossRunsAndTargets) {
 // -s: the header is the only file whose bytes name the bake; the .bin is named by its hash and
 // the .cpp/.S are stubs that never change (the set switches with the header's rename).
 // The .bin's name is the FNV-1a 64 of its bytes, as docs/blender2ogl.md says: the published
-// test vectors (its offset basis had lost its last digit, 1469598103934665603).
+// test vectors.
 TEST(Emit, BinHashIsFnv1a64) {
   EXPECT_EQ(conv::hash_hex(""), "cbf29ce484222325");
   EXPECT_EQ(conv::hash_hex("a"), "af63dc4c8601ec8c");

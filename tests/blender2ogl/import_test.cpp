@@ -151,7 +151,7 @@ TEST(Import, EveryCornerBitExactToAssimp) {
   }
 }
 
-// The L of the report (its reflex corner on a diagonal): assimp's own triangulation made 4
+// The L of the report (its reflex corner on a diagonal): assimp's own triangulation makes 4
 // triangles of area 4, two facing down; the converter's covers the L once, facing up.
 TEST(Import, ConcaveLFaceIsTriangulatedCorrectly) {
   const auto s = import_scene(fixture("lshape.obj"), false);
@@ -193,7 +193,7 @@ TEST(Import, BowTieFacesWarnOncePerObject) {
 
 // Convex polygons, quads (convex and concave) and triangles: face for face and corner for
 // corner what assimp's own aiProcess_Triangulate gives (with its NGON encoding's rotations),
-// so the converter's output for them is what it was.
+// so the converter's output for them is assimp's.
 TEST(Import, ConvexPolygonsAsAssimp) {
   Assimp::Importer mine, theirs;
   const std::string file = fixture("convex_ngons.obj").string();
@@ -245,7 +245,7 @@ TEST(Identifiers, OddNamesGiveValidDistinctStableIdentifiers) {
   // macros in GCC's GNU dialects (CMake's default, and the scene's .S)
   EXPECT_EQ(b2o::conv::clean_identifier("linux"), "linux_");
   EXPECT_EQ(b2o::conv::clean_identifier("unix"), "unix_");
-  // <cstdint>'s object-like macros (stop 24); its function-like ones and look-alikes stay
+  // <cstdint>'s object-like macros; its function-like ones and look-alikes stay
   for (const char* m : {"SIZE_MAX", "INT32_MAX", "UINT64_MAX", "INT8_MIN", "INT_LEAST16_MIN", "UINT_FAST32_MAX",
                         "INTPTR_MIN", "UINTPTR_MAX", "INTMAX_MAX", "PTRDIFF_WIDTH", "SIG_ATOMIC_MIN", "WCHAR_MAX",
                         "WINT_MIN", "INT64_WIDTH"})
@@ -302,7 +302,7 @@ TEST(Import, UndecodableTextureIsAnErrorOrWithAllowMissingAWarning) {
 
 // Freeform curves and surfaces (Blender's "Curves as NURBS") have nothing to draw: their
 // statements are left out with one warning at the first one's line, and the faces around them
-// are all read (assimp lost a face after `cstype` and failed on `curv` without a line).
+// are all read (assimp loses a face after `cstype` and fails on `curv` without a line).
 TEST(Import, FreeformStatementsAreIgnoredWithOneWarning) {
   const auto dir = scratch("import_freeform");
   write_file(dir / "m.obj",
@@ -362,13 +362,13 @@ TEST(Import, Utf8ByteOrderMarkInObjAndMtl) {
 }
 
 
-// What Blender and other tools write that assimp 5.2.5 misread (found by a new user's
-// exports): a number starting with '.', an mtllib line with trailing spaces or a comment,
-// map_Kd options with fewer than 3 numbers or unknown to assimp, Blender 4's PBR keys.
+// What Blender and other tools write that assimp 5.2.5 misreads: a number starting with '.',
+// an mtllib line with trailing spaces or a comment, map_Kd options with fewer than 3 numbers
+// or unknown to assimp, Blender 4's PBR keys.
 TEST(Import, ExportsAssimpMisreadAreReadAsWritten) {
   const auto dir = scratch("import_misread");
-  // '.5' was no number to assimp: the vertex line was skipped and the indices shifted
-  // ('lod', a display attribute, it took for a line element and failed without a line)
+  // '.5' is no number to assimp: it skips the vertex line and the indices shift
+  // ('lod', a display attribute, it takes for a line element and fails without a line)
   write_file(dir / "dot.obj", "o A\nv 0 .5 0\nv 1 0 0\nv 0 0 1\nv 1 0 1\nvt 0 .25\nlod 1\nf 1/1 2/1 3/1\n");
   auto s = import_scene(dir / "dot.obj", false);
   ASSERT_EQ(s.positions.size(), 9u);
@@ -405,7 +405,7 @@ TEST(Import, ExportsAssimpMisreadAreReadAsWritten) {
   expect_input_error([&] { import_scene(dir / "lib.obj", false); }, "m.mtl:3: texture 'lost.png' of material 'Red' not found");
 }
 
-// What the first fixes of these must not break (a review's cases): lowercase kd / ns (assimp
+// What the pre-scan's rules for these must not break: lowercase kd / ns (assimp
 // reads K and N in either case), a library named like a piece of the word "mtllib", a texture
 // file name that starts with '-', Blender's Material Groups (faces under another name than
 // their vertices: no "left out" warning), and a library under a symbolic link whose texture
@@ -438,8 +438,8 @@ TEST(Import, WhatTheMisreadFixesKeep) {
   EXPECT_EQ(s.textures[0].bytes.size(), png.size());
 }
 
-// A comment ending in '\' (a Windows folder) took the next face into the comment, for assimp
-// too; and Blender's legacy `usemtl (null)` before every object warned at every use.
+// A comment ending in '\' (a Windows folder) does not take the next face into the comment,
+// for assimp either; Blender's legacy `usemtl (null)` before every object warns once.
 TEST(Import, CommentBackslashAndRepeatedUndefinedMaterial) {
   const auto dir = scratch("import_comment_null");
   write_file(dir / "m.obj", "o A\nv 0 0 0\nv 1 0 0\nv 0 0 1\nv 1 0 1\nusemtl (null)\n"
@@ -453,7 +453,7 @@ TEST(Import, CommentBackslashAndRepeatedUndefinedMaterial) {
 }
 
 // Two libraries in two folders naming a texture of the same name: each material gets the
-// one next to its .mtl (both got the first folder's).
+// one next to its .mtl (not both the first folder's).
 TEST(Import, TexturesAreRelativeToTheirOwnMtl) {
   const auto dir = scratch("import_two_libs");
   write_file(dir / "m.obj", "mtllib a/m.mtl\nmtllib b/n.mtl\no A\nv 0 0 0\nv 1 0 0\nv 0 0 1\nv 1 0 1\n"
@@ -490,9 +490,9 @@ TEST(Import, DroppedAndCutObjectsAreWarned) {
   EXPECT_NE(all.find("m.obj:9: object name read as 'Flag': '#1' is a comment in OBJ"), std::string::npos) << all;
 }
 
-// Found by a new user's exports: a loose vertex in an object that has faces (the 2016 skirt's
-// 353rd) is said; a texture offset (Blender writes `-o` for a Mapping node) is warned and a
-// neutral scale is not; `mtllib a.mtl b.mtl` reads both libraries.
+// A loose vertex in an object that has faces (the 2016 skirt's 353rd) is said; a texture
+// offset (Blender writes `-o` for a Mapping node) is warned and a neutral scale is not;
+// `mtllib a.mtl b.mtl` reads both libraries.
 TEST(Import, LooseVerticesOffsetsAndSeveralLibrariesOnALine) {
   const auto dir = scratch("import_loose_offsets");
   write_file(dir / "loose.obj", "o Cone\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 0.5\nf 1 2 3 4\n"
@@ -568,7 +568,7 @@ TEST(Import, LooseVerticesOffsetsAndSeveralLibrariesOnALine) {
 }
 
 // Faces before the first `o` line, or under a bare `o`, form an object named after the file,
-// as a file without `o`/`g` does (assimp named it "defaultobject", so `-a <stem>` failed); a
+// as a file without `o`/`g` does (assimp names it "defaultobject", so `-a <stem>` would fail); a
 // file that names an object "defaultobject" keeps it.
 TEST(Import, FacesBeforeTheFirstObjectAreNamedAfterTheFile) {
   const auto dir = scratch("import_default_object");
@@ -620,8 +620,8 @@ TEST(Import, MissingZeroAndDegenerateNormalsAreComputed) {
 
 }  // namespace
 
-// A probe's exports that assimp misread without a word (stop 24): a face mixing reference forms (its texture
-// coordinates went to the wrong corners), indices with leading zeros, and statements assimp
+// Exports that assimp misreads without a word: a face mixing reference forms (its texture
+// coordinates go to the wrong corners), indices with leading zeros, and statements assimp
 // reads by their first letter. Each is refused at its line.
 TEST(Import, MisreadLinesAreRefusedAtTheirLine) {
   const auto dir = scratch("import_misread");
@@ -654,18 +654,18 @@ TEST(Import, MisreadLinesAreRefusedAtTheirLine) {
   const auto s = import_scene(dir / "ok.obj", false);
   EXPECT_EQ(s.indices.size(), 9u);
   // an object name ending in '\' before spaces: the name is kept and the next line is not
-  // taken into it (the scan gave assimp `o foo\`, which continued the line: a vertex lost)
+  // taken into it (assimp given `o foo\` would continue the line: a vertex lost)
   write_file(dir / "bs.obj", "v 0 0 0\nv 1 0 0\no foo\\ \nv 0 1 0\nv 1 1 1\nf 1 2 3\ng bar\\\t\r\nf 2 4 3\n");
   const auto b = import_scene(dir / "bs.obj", false);
   ASSERT_EQ(b.objects.size(), 2u);
   EXPECT_EQ(b.objects[0].name, "foo\\");
   EXPECT_EQ(b.objects[1].name, "bar\\");
   ASSERT_EQ(b.positions.size(), 18u);  // the two objects' three corners each
-  EXPECT_EQ(b.positions[7], 1.0f);     // (0 1 0), the one that was lost
+  EXPECT_EQ(b.positions[7], 1.0f);     // (0 1 0), the one a continued line loses
 }
 
 // Faces with no `usemtl` (Blender 4 writes none for an object without materials) get the
-// default material: assimp gave them another object's, or the library's first (stop 24).
+// default material (assimp gives them another object's, or the library's first).
 // A `g` keeps the material before it, as OBJ reads.
 TEST(Import, FacesWithoutAMaterialGetTheDefaultOne) {
   const auto dir = scratch("import_no_usemtl");
@@ -706,8 +706,8 @@ TEST(Import, FacesWithoutAMaterialGetTheDefaultOne) {
   }
 }
 
-// A model file is read by its extension: without one assimp guessed OBJ from the content and
-// the pre-scan never ran (a '.5' coordinate lost a vertex without a word; stop 24).
+// A model file is read by its extension: without one assimp would guess OBJ from the content
+// past the pre-scan (a '.5' coordinate would lose a vertex without a word).
 TEST(Import, AModelWithoutAKnownExtensionIsRefused) {
   const auto dir = scratch("import_extension");
   const std::string obj = "v 0 0 0\nv .5 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\n";
@@ -722,7 +722,7 @@ TEST(Import, AModelWithoutAKnownExtensionIsRefused) {
 }
 
 // One image named two ways (`./tex.png` and `tex.png`, or through another folder) is baked
-// once, and both materials use it (it was baked twice; stop 24).
+// once, and both materials use it (not baked twice).
 TEST(Import, OneTextureFileNamedTwoWaysIsBakedOnce) {
   const auto dir = scratch("import_same_texture");
   write_file(dir / "m.obj", "mtllib m.mtl\no A\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nusemtl P\nf 1 2 3\nusemtl Q\nf 2 4 3\n");

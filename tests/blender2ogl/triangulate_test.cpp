@@ -97,7 +97,7 @@ std::vector<float> xy(const std::vector<std::array<float, 2>>& pts) {
 }
 
 // The L of the report: its reflex corner (1, 1) lies exactly on the diagonal from (2, 0) to
-// (0, 2). assimp 5.2.5 made it 4 triangles of area 4 covering the notch.
+// (0, 2). assimp 5.2.5 makes it 4 triangles of area 4 covering the notch.
 const std::vector<std::array<float, 2>> kL = {{0, 0}, {0, 2}, {1, 2}, {1, 1}, {2, 1}, {2, 0}};
 
 TEST(Triangulate, LWithReflexCornerOnTheDiagonal) {
@@ -171,7 +171,7 @@ TEST(Triangulate, QuadsFanFromTheReflexCorner) {
 }
 
 TEST(Triangulate, CollinearCornersGiveNoZeroAreaTriangle) {
-  // a square with corners in the middle of its sides (assimp cut the first one as an ear
+  // a square with corners in the middle of its sides (assimp cuts the first one as an ear
   // with no area)
   expect_triangulated(xz({{1, 0}, {2, 0}, {2, 2}, {0, 2}, {0, 0}}), "square, corner 0 on a side");
   expect_triangulated(xz({{0, 0}, {1, 0}, {2, 0}, {2, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}}), "square, 8 corners");

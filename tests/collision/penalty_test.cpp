@@ -134,7 +134,7 @@ ColliderSet box_set() {
 
 // A point on the box's top exactly (or up to rounding) in the plane of a side face ties between
 // the two faces at their shared edge; the side face wins on its index. It is outside: never
-// classed as behind, on every query path (found by a cloth grid aligned with a box's side).
+// classed as behind, on every query path (a cloth grid aligned with a box's side has such points).
 TEST(CollisionPenalty, PointInASideFacesPlaneAboveTheBoxIsNotBehind) {
   const ColliderSet set = box_set();
   for (double dx : {0.0, 1e-12, -1e-12, 1e-10})
@@ -255,7 +255,7 @@ TEST(CollisionPenalty, EmptySetGivesNoForce) {
 
 // Beyond an edge or a corner of a box (outside it) the push is along P - Q, Q the closest
 // point, with k_rep (eps - |P - Q|): the gradient of the distance, so the same whichever face
-// won the tie. (It was the lower-index face's normal: a cloth centred on a box drifted off the
+// wins the tie. (The lower-index face's normal would make a cloth centred on a box drift off the
 // side listed first, and off the other side with the faces in the other order.)
 // The unit cube [0, 1]^3, faces outwards.
 clothsim::meshes::Mesh unit_box() {
@@ -304,8 +304,8 @@ TEST(CollisionPenalty, EdgeAndCornerPushIsAlongTheClosestPointWhateverTheFaceOrd
 }
 
 // Beside the rim of an open plate, a point below its level is not behind it: it is pushed away
-// from the rim (it was pushed up by k_rep (eps + d), a force with no potential: a cloth draped
-// over a plate smaller than itself gained energy). Under the plate it is behind, as before.
+// from the rim (a push up by k_rep (eps + d) has no potential: a cloth draped over a plate
+// smaller than itself would gain energy). Under the plate it is behind.
 TEST(CollisionPenalty, BesideAnOpenRimThePushIsAwayFromTheRim) {
   const ColliderSet set = floor_set();  // the plate [-2, 2]^2 at y = 0, facing up
   const Vector3d beside(2.04, -0.03, 0.3), under(1.96, -0.03, 0.3);
@@ -326,7 +326,7 @@ TEST(CollisionPenalty, BesideAnOpenRimThePushIsAwayFromTheRim) {
       const Vector3d b = corners[k] + (corners[(k + 1) % 4] - corners[k]) * ((i + 1) / 400.0);
       work += force_at(set, 0.5 * (a + b)).dot(b - a);
     }
-  EXPECT_NEAR(work, 0.0, 1e-4);  // (the midpoint rule's error: ~1e-6; the face's push up gave ~-2 J)
+  EXPECT_NEAR(work, 0.0, 1e-4);  // (the midpoint rule's error: ~1e-6; the face's push up would give ~-2 J)
 }
 
 // In a closed solid, a point sunk near a reflex edge (behind both faces, its closest point on
@@ -396,9 +396,9 @@ clothsim::meshes::Mesh knife_prism(double w, double h, int s, int layers) {
 }  // namespace
 
 // Beside a sharp ridge (30 degrees) a point outside the solid can be behind the plane of one
-// of the two faces there; if that face won the tie it was "behind" by |P - Q|, counted as a
-// penetration and pushed by k_rep (eps + |P - Q|) along that face's normal: a force with no
-// potential (a cloth dropped on a knife-edge prism gained 10x its energy). The angle-weighted
+// of the two faces there; if that face wins the tie the point is "behind" by |P - Q|, counted as
+// a penetration and pushed by k_rep (eps + |P - Q|) along that face's normal: a force with no
+// potential (a cloth dropped on a knife-edge prism gains 10x its energy). The angle-weighted
 // pseudonormal at the edge tells it is outside: pushed along P - Q, k_rep (eps - |P - Q|), in
 // both face orders, on the plain, cached and copied (> 4096 triangles) paths alike. Inside
 // under the ridge it is still behind.

@@ -85,7 +85,7 @@ TEST(CollisionPointTriangle, DegenerateTrianglesAreFlagged) {
 }
 
 TEST(CollisionPointTriangle, DistanceDoesNotScaleWithArea) {
-  // The 2016 code used the unnormalized normal: d grew with 2*area. A true distance does not.
+  // With the unnormalized normal (the 2016 code's) d grows with 2*area; a true distance does not.
   for (double s : {0.01, 1.0, 37.0}) {
     const auto r = point_triangle(Vector3d(0.2 * s, 0.2 * s, 0.07), A * s, B * s, C * s);
     EXPECT_NEAR(r.signed_distance, 0.07, 1e-12) << "scale " << s;

@@ -1,5 +1,5 @@
-// Hard cases of issue 5 (numbers from FACTS.md). Each test asserts what the theory says;
-// hard case 11 (convergence order) is in test_integrators.cpp.
+// The hard cases of docs/stability.md. Each test asserts what the theory says; hard case 11
+// (convergence order) is in integrators_test.cpp.
 #include <clothsim/collision.hpp>
 #include <clothsim/integrators.hpp>
 #include <clothsim/model_builder.hpp>
@@ -130,7 +130,7 @@ TEST(HardCase02, ThreeTimesTheLimitIsSubsteppedOrRefused) {
   State s = make_state(m);
   Workspace ws = make_workspace(m);
   for (int i = 0; i < 2000; ++i) ASSERT_TRUE(step(m, s, ws).finite) << "step " << i;
-  EXPECT_LT((s.x - m.x0).cwiseAbs().maxCoeff(), 2.0);  // hangs, did not explode
+  EXPECT_LT((s.x - m.x0).cwiseAbs().maxCoeff(), 2.0);  // hangs, does not explode
 
   const SubstepPlan off = plan_substeps(dt, r.dt_stable, parse_substeps("off"));
   EXPECT_FALSE(off.ok);
@@ -358,7 +358,7 @@ TEST(HardCase07, TunnellingGuard) {
     const Model m = point_over_floor(o, v * v / (2 * g));
     const TunnellingReport r = check_tunnelling(m, o.dt);
     EXPECT_FALSE(r.warn) << r.message;
-    EXPECT_GT(lowest_y(m, 3.0), -o.epsilon);  // never got through the band
+    EXPECT_GT(lowest_y(m, 3.0), -o.epsilon);  // never gets through the band
   }
   // above: 3 v_max
   {
@@ -495,18 +495,17 @@ TEST(HardCase12, ElasticBounceDoesNotGainHeight) {
                             Integrator::ImplicitEuler}) {
     const double r = rebound_height(method, h, drop);
     EXPECT_LE(r, allowed) << to_string(method);
-    EXPECT_GT(r, 0.0) << to_string(method);  // it did bounce
+    EXPECT_GT(r, 0.0) << to_string(method);  // it bounces
   }
   EXPECT_GT(rebound_height(Integrator::ExplicitEuler, h, drop), allowed);
 }
 
 // The penalty contact is explicit in every integrator (the implicit ones solve only the
 // springs implicitly), and a one-sided spring taken explicitly gains energy per bounce as
-// h omega_c nears 2: dropped 0.3 m, a point rebounds 0.889 m at h omega_c = 1.8 (the old safe
-// step where contact sets omega_max), 0.308 m at 1. The implicit methods' guard said
-// dt_stable inf (a probe's XPBD cloth bounced 8 m up in 3 s). dt_stable now stays at or under
-// 1 / (0.9 omega_c): at its safe step (0.9 x) the rebound is within the bound above, for the
-// implicit methods and symplectic Euler; at the old step XPBD gains height.
+// h omega_c nears 2: dropped 0.3 m, a point rebounds 0.889 m at h omega_c = 1.8, 0.308 m at 1.
+// So dt_stable stays at or under 1 / (0.9 omega_c) for the implicit methods too (their springs
+// alone give inf): at its safe step (0.9 x) the rebound is within the bound above, for the
+// implicit methods and symplectic Euler; at the default dt XPBD gains height.
 TEST(HardCase12, ImplicitMethodsAreLimitedByTheExplicitContact) {
   Options o;
   o.mass = 0.01;  // omega_c = sqrt(600 / 0.01) = 245 rad/s: the default dt 0.01 gives h omega_c 2.45

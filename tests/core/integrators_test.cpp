@@ -1,4 +1,4 @@
-// The integrators of issue 5 against their theory: names, pins, order of convergence
+// The integrators against their theory: names, pins, order of convergence
 // (hard case 11), energy behaviour, stability limits of the linear test equation.
 #include <clothsim/integrators.hpp>
 #include <clothsim/stability.hpp>
@@ -118,7 +118,7 @@ TEST(Integrators, StableDtMatchesTheory) {
 
 // Damping far above omega (--mass 1e-45 with damping 0.1: zeta 5e43 1/s, omega 1.6e24 rad/s):
 // the explicitly damped methods are stable for h zeta below about 1, so a tiny dt_stable is
-// found (it used to be 0, reported as "unstable at every step size (no damping)").
+// found (not 0, which would read "unstable at every step size (no damping)").
 TEST(Integrators, StableDtWithDampingFarAboveOmegaIsTinyNotZero) {
   const double w = 1.6e24, zeta = 5e43;
   for (Integrator m : {Integrator::XPBD, Integrator::SymplecticEuler}) {

@@ -1,4 +1,4 @@
-// Issue 6: the gathered, threaded force loops give exactly the seed's scatter results.
+// The gathered, threaded force loops give exactly the scatter loop's results.
 #include "perf_scenes.hpp"
 
 #include <clothsim/integrators.hpp>

@@ -1,5 +1,5 @@
 // The stability guard's eigenvalue estimate (omega_max_lanczos) against a dense eigensolver,
-// and its iteration count on a large cloth (the power iteration it replaced needed thousands).
+// and its iteration count on a large cloth (a power iteration needs thousands).
 #include <clothsim/model_builder.hpp>
 #include <clothsim/stability.hpp>
 

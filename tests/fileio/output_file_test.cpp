@@ -62,8 +62,8 @@ TEST(OutputFile, NewFileIsWrittenWithNoTemporaryLeft) {
 }
 
 // A folder where the permission bits say "writable" but no file can be made (/proc, as
-// root): refused before the run (it failed after the whole run), and the check leaves nothing
-// behind where it can write.
+// root): refused before the run (not after the whole run), and the check leaves nothing behind
+// where it can write.
 TEST(OutputFile, AFolderWhereNoFileCanBeMadeIsRefusedBeforeTheRun) {
   if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
   const std::string why = check_output_file("/proc/r.json");

@@ -184,7 +184,7 @@ TEST(BadInput, UnwritableTarget) {
 }
 
 // A folder in place of one output (the header, the set's commit point): refused before anything
-// is replaced (found here first: the renames used to leave new files next to old ones).
+// is replaced (a refusal after some renames would leave new files next to old ones).
 TEST(BadInput, OutputNameTakenByFolderChangesNothing) {
   TempDir work("taken");
   const fs::path input = work.path / "model.obj";
@@ -319,7 +319,7 @@ TEST(BadUsage, ExitsTwoWithOneLine) {
 
 namespace {
 
-// A folder named like the .mtl: the message names it (it used to be assimp's "File read error").
+// A folder named like the .mtl: the message names it (not assimp's "File read error").
 TEST(BadInput, MtlFolderIsNamedInTheMessage) {
   TempDir work("mtl");
   const fs::path input = work.path / "model.obj";
@@ -333,8 +333,8 @@ TEST(BadInput, MtlFolderIsNamedInTheMessage) {
 
 namespace {
 
-// Found by the fuzzer: a .mtl whose first statement is map_Kd (no `newmtl` before it) crashed
-// assimp 5.2.5 in its material parser (SIGSEGV); the pre-scan now refuses it with file:line.
+// A .mtl whose first statement is map_Kd (no `newmtl` before it) crashes assimp 5.2.5 in its
+// material parser (SIGSEGV): the pre-scan refuses it with file:line.
 TEST(BadInput, MtlStatementBeforeNewmtlIsRefused) {
   TempDir work("newmtl");
   for (const char* f : {"mtl_statement_before_newmtl.obj", "before_newmtl.mtl"})
@@ -349,9 +349,9 @@ TEST(BadInput, MtlStatementBeforeNewmtlIsRefused) {
 
 namespace {
 
-// Found by the long fuzz run: "\vnewmtl" is a newmtl to a scan that counts a vertical tab as
-// blank, but not to assimp, so a statement after it still crashed assimp 5.2.5 (SIGSEGV). The
-// pre-scan now refuses vertical tabs and form feeds in model and material files.
+// "\vnewmtl" is a newmtl to a scan that counts a vertical tab as blank, but not to assimp, so a
+// statement after it crashes assimp 5.2.5 (SIGSEGV): the pre-scan refuses vertical tabs and
+// form feeds in model and material files.
 TEST(BadInput, VerticalTabBeforeNewmtlIsRefused) {
   TempDir work("vtab");
   for (const char* f : {"mtl_vertical_tab.obj", "vt.mtl"}) fs::copy_file(kCorpus / f, work.path / f);

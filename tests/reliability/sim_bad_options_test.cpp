@@ -62,7 +62,7 @@ TEST(SimBadOptions, ReportIntoAMissingFolderIsRefused) {
   EXPECT_FALSE(fs::exists(work.path / "no"));
 }
 
-// Far beyond the stable step (FACTS.md: symplectic Euler blows up past h*omega = 2): the state
+// Far beyond the stable step (symplectic Euler blows up past h*omega = 2): the state
 // overflows to inf/NaN within a few steps. The run must stop there with a report.
 TEST(SimExplosion, StopsWithAReportNotACrash) {
   TempDir work("boom");

@@ -140,9 +140,9 @@ TEST(ColliderWarnings, InwardFacesAreNamedWithTheVolume) {
 }
 
 // Part by part, as the bake: a small inside-out box beside a large outward one (the sum of the
-// volumes is positive: the whole-mesh check missed it), not when it is inside the large one
+// volumes is positive: a whole-mesh check misses it), not when it is inside the large one
 // (a cavity: a hollow box's inner wall rightly faces into the hollow), and a box with one face
-// flipped (not a consistent solid: the whole-mesh check called it open and said nothing).
+// flipped (not a consistent solid: a whole-mesh check calls it open and says nothing).
 TEST(ColliderWarnings, PartsAreCheckedOneByOne) {
   auto set = std::make_shared<ColliderSet>();
   auto pair_of_boxes = [](Eigen::Vector3d small_at) {
@@ -214,7 +214,7 @@ TEST(ColliderWarnings, MassesBehindAnOpenColliderAreNamed) {
 }
 
 // Masses that start deep in a collider's contact band are thrown off at once (the dice cloth
-// at --epsilon 3 flew 100 m up): warned when the push k_rep (eps - d) is over 10x their
+// at --epsilon 3 flies 100 m up): warned when the push k_rep (eps - d) is over 10x their
 // weight. A mass at its resting depth (eps - m g / k_rep) or just inside the band is not.
 TEST(ColliderWarnings, MassesThrownOutOfTheContactBandAreNamed) {
   const std::shared_ptr<ColliderSet> set = test::floor_collider();  // y = 0, normals up

@@ -1,5 +1,5 @@
-// The dice scene at real gravity: both dice land on the plane and stay on it (the 2016 ones
-// fell through), keeping their shape.
+// The dice scene at real gravity: both dice land on the plane and stay on it, keeping their
+// shape.
 #include "scene_run.hpp"
 
 #include <dice.h>

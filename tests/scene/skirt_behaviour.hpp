@@ -1,4 +1,4 @@
-// The skirt scenes' behaviour test, shared by scene_skirt_test and scene_skirt_hires_test.
+// The skirt scenes' behaviour test, shared by skirt_test and skirt_hires_test.
 #pragma once
 
 #include "scene_run.hpp"
@@ -88,9 +88,9 @@ inline void check_skirt(const b2o::Scene& scene, int check_every, SkirtRun* out 
   EXPECT_GT(wrapped_step, 0) << "never wrapped the sphere (cloth on both its upper and lower half)";
   EXPECT_LE(s.max_penetration, o.epsilon);
   // not a rubber band (measured: 1.72 (skirt), 1.53 (skirt_hires) for a moment as the cloth hits the sphere's top; the
-  // seed's 0.1 kg gave 4.4)
+  // seed's 0.1 kg gives 4.4)
   EXPECT_LT(max_strain, 2.5) << "structural springs stretched like a rubber band";
-  // measured: 0.44 m (skirt), 0.37 m (skirt_hires); with 0.1 kg (1.05 m) the waist widened past the sphere and dropped over it
+  // measured: 0.44 m (skirt), 0.37 m (skirt_hires); with 0.1 kg (1.05 m) the waist widens past the sphere and drops over it
   EXPECT_LT(max_waist_radius, r_in) << "the waist widened past the sphere";
   // it stays on the sphere a while (measured: 2.5 s (skirt) and 2.3 s (skirt_hires) from wrapped to off the upper half) instead
   // of dropping over it (0.26 s with 0.1 kg)

@@ -1,4 +1,4 @@
-// The high-resolution skirt (16 640 masses, issue 6): the same cloth as the skirt with 47x the
+// The high-resolution skirt (16 640 masses): the same cloth as the skirt with 47x the
 // masses, so its baked params are the skirt's scaled to keep the cloth's physics (total mass,
 // damping and penalty per kilogram, spring stiffness), and it must do what the skirt does.
 #include "skirt_behaviour.hpp"

@@ -1,7 +1,7 @@
 // The skirt at real gravity with the scene's baked params (the seed's weight per mass, 0.1 N):
 // lands on the sphere, wraps it, slides off to one side and comes to rest on the floor in
 // folds; never more than eps inside the sphere or below the floor; never stretched like a
-// rubber band (the seed's 0.1 kg at g = 9.81 stretched springs 4x and widened the waist past
+// rubber band (the seed's 0.1 kg at g = 9.81 stretches springs 4x and widens the waist past
 // the sphere).
 #include "skirt_behaviour.hpp"
 
@@ -23,7 +23,7 @@ TEST(SkirtScene, LandsWrapsSlidesOffAndRestsOnTheFloor) {
 
 // Golden hash of the state after 300 steps of the skirt (the scene's params). It changes when
 // the physics, the scene or the compiler's arithmetic change. To refresh after an intended
-// change: CLOTHSIM_PRINT_GOLDEN=1 ./scene_skirt_test --gtest_filter='*Golden*' and paste
+// change: CLOTHSIM_PRINT_GOLDEN=1 ./skirt_test --gtest_filter='*Golden*' and paste
 // the printed value here (and say why in the commit message).
 constexpr std::uint64_t kGoldenSkirt300 = 0xafc0c0b37fd9585dull;
 

@@ -7,8 +7,8 @@ using namespace clothsim::testing;
 
 // clothsim_wp (the work-precision tool) writes <out>/<scene>.csv and .svg by the same rule:
 // the paths are checked before the study (exit 2), a device is written through, never replaced.
-// Values that ran a nonsense study with exit 0 (a NaN or overflowing stiffness, an
-// integrator given twice, whose order came out as garbage), a scene the tool does not have
+// Values that would run a nonsense study (a NaN or overflowing stiffness, an integrator given
+// twice, whose fitted order would be garbage), a scene the tool does not have
 // (named with the ones it has), and study options with --model-cost: bad input, one line.
 TEST(WorkPrecision, BadStudiesAreRefusedBeforeTheyRun) {
   const fs::path d = fresh_dir("wp_bad");
@@ -49,7 +49,7 @@ TEST(WorkPrecision, OutputsIntoDevicesAreWrittenThrough) {
   if (!make_char_device(d / "hanging.csv", 3) || !make_char_device(d / "hanging.svg", 7))
     GTEST_SKIP() << "mknod not permitted: " << std::strerror(errno);
   const Result r = run_program(CLOTHSIM_WP_EXE, "--fast --scene hanging --integrators symplectic-euler --out " + q(d));
-  EXPECT_EQ(r.code, 1) << r.output;  // the .svg went to a full device
+  EXPECT_EQ(r.code, 1) << r.output;  // the .svg goes to a full device
   EXPECT_NE(r.output.find("hanging.svg': No space left"), std::string::npos) << r.output;
   EXPECT_TRUE(is_char_device(d / "hanging.csv")) << "the device was replaced";
   EXPECT_TRUE(is_char_device(d / "hanging.svg")) << "the device was replaced";

@@ -1,5 +1,5 @@
 // The checks between options and of output paths, made before anything runs: a run that
-// would fail at its end for a bad path, or an option that would do nothing, is bad input now.
+// would fail at its end for a bad path, or an option that would do nothing, is bad input at once.
 #include "run_config.hpp"
 
 #include <clothsim/output_file.hpp>

@@ -161,7 +161,7 @@ void BM_BvhFar(benchmark::State& s) {  // nothing in reach: the root-box early-o
   run(s, clothsim::QueryMethod::Bvh, false, 4096, 2.0, 3.0);
 }
 
-// The 2016 skirt scene's colliders (FACTS.md): floor 18 x 18 quads (648 triangles) at
+// The 2016 skirt scene's colliders (models/README.md): floor 18 x 18 quads (648 triangles) at
 // y = -2.33, icosphere 80 triangles r 0.87; 353 masses: 2/3 resting on the floor at d = 0.099
 // (eps - m g / k_rep with k_rep 1000), 1/3 at 0.05 outside the sphere's circumsphere (inside the
 // band of its flat faces). Time of one step's collision call; arg 0 = BVH + hints,

@@ -1,4 +1,4 @@
-// Google Benchmark cases of issue 6 (perf_sweep prints the full tables):
+// Google Benchmark cases of docs/performance.md (perf_sweep prints the full tables):
 //   bench_perf --benchmark_counters_tabular=true
 // SpringsScatter is the reference (the plain scalar scatter loop); SpringsGather/N/threads the
 // gathered forces; Step/N/threads a whole step of the seed's method (no collider); SkirtStep the
@@ -72,7 +72,7 @@ State strained(const Model& m) {
 
 #ifdef PERF_AVX2
 // The float experiment: positions as float4 (x, y, z, 0), spring forces as float4 per spring,
-// the gather in float; the same blocks and order as the double path in step.cpp.
+// the gather in float; the same blocks and order as the double path in spring_forces.cpp.
 struct FloatSprings {
   std::vector<float> x, fs, f, rest, k;  // x: 4 per mass; fs: 4 per spring; f: 4 per mass
   void load(const Model& m, const Eigen::Matrix3Xd& xd) {
@@ -218,8 +218,8 @@ void BM_SkirtStep(benchmark::State& st) {
   State s = make_state(m);
   Workspace ws = make_workspace(m);
   // The mean over whole 20 s runs (fall, wrap, slide, rest), as the headless summary measures
-  // it: the state starts again at every 20 s of simulated time. (It was 100 steps of settling,
-  // 0.2 s, before any contact, then however long the benchmark ran: mostly the cloth at rest.)
+  // it: the state starts again at every 20 s of simulated time, so the phases weigh as in a run
+  // (not mostly the cloth at rest).
   for (auto _ : st) {
     step(m, s, ws);
     if (s.t >= 20.0) {

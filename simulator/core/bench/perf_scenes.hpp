@@ -1,4 +1,4 @@
-// Scenes for the performance benchmarks (issue 6): a triangulated N x N cloth (structural
+// Scenes for the performance benchmarks: a triangulated N x N cloth (structural
 // springs on every mesh edge, bend springs across every interior edge, the converter's rule)
 // lying over a unit icosphere collider, and the memory a Model/State/Workspace holds.
 #pragma once

@@ -1,4 +1,5 @@
-// The scaling sweep of issue 6: a triangulated N x N cloth over a unit icosphere of T triangles.
+// The scaling sweep (docs/performance.md): a triangulated N x N cloth over a unit icosphere of T
+// triangles.
 // Prints tables and writes CSV. Every speed is the minimum over repetitions, and each is shown
 // next to a reference measured in the same run:
 //   springs:   the gathered spring forces (1 and 2 threads) vs the plain scalar scatter loop;
@@ -177,7 +178,7 @@ void skirt_table(const char* label, const b2o::Scene& scene, double settle, Csv&
 
 }  // namespace
 
-// A whole decimal integer or number (std::stoi read "1e9" as 1 and "3x" as 3).
+// A whole decimal integer or number (std::stoi reads "1e9" as 1 and "3x" as 3).
 bool whole_int(const std::string& t, int& v) {
   const char* end = t.data() + t.size();
   const auto r = std::from_chars(t.data(), end, v);
@@ -191,7 +192,7 @@ bool whole_double(const std::string& t, double& v) {
 
 constexpr const char* kUsage =
     "Usage: perf_sweep [--quick] [--csv DIR] [--reps R] [--max-n N] [--max-level L] [--brute-pairs P]\n"
-    "The scaling sweep of issue 6 (docs/performance.md): springs, collision and whole steps of an\n"
+    "The scaling sweep (docs/performance.md): springs, collision and whole steps of an\n"
     "N x N cloth over an icosphere, each next to its reference in the same run, then the baked skirts.\n"
     "  --quick          N <= 64, levels <= 4, 2 repetitions (a minute instead of ~10)\n"
     "  --csv DIR        also write springs.csv, collision.csv, collision_speed.csv, skirt.csv into DIR\n"
@@ -240,7 +241,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  // (upper limits: --max-n 70000 or --max-level 17 ran out of memory and aborted)
+  // (upper limits: --max-n 70000 or --max-level 17 run out of memory and abort)
   if (g_reps < 1 || g_reps > 1000 || max_n < 16 || max_n > 2048 || max_level < 3 || max_level > 9 || brute_pairs < 1 ||
       brute_pairs > 1e11) {
     std::cerr << "perf_sweep: error: need --reps 1..1000, --max-n 16..2048, --max-level 3..9 (20 * 4^9 = 5.2M "
@@ -325,7 +326,7 @@ int main(int argc, char** argv) {
       std::vector<std::int32_t> hints(m.mass_count(), -1);
       const double masses = static_cast<double>(m.mass_count());
       // the search every call from the previous answer (hints), the ContactCache as the step uses
-      // it, and the single-triangle certificate of earlier versions (K = 1); sliding 1 mm per call
+      // it, and a single-triangle certificate (K = 1); sliding 1 mm per call
       const int warm = n >= 256 ? 30 : 60;
       const double bvh = sliding_seconds(*set, s.x, o.epsilon, o.k_rep, 1e-3, 0, warm, 3).first / masses;
       const auto [cache_s, cert] = sliding_seconds(*set, s.x, o.epsilon, o.k_rep, 1e-3,

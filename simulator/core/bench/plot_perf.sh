@@ -1,6 +1,6 @@
 #!/bin/sh
 # Log-log plots of perf_sweep's CSV files (gnuplot, PNG):
-#   simulator/bench/plot_perf.sh CSV_DIR OUT_DIR [N]   -> OUT_DIR/perf_springs.png, perf_collision.png
+#   simulator/core/bench/plot_perf.sh CSV_DIR OUT_DIR [N]   -> OUT_DIR/perf_springs.png, perf_collision.png
 # (the collision plot shows the N x N cloth, default 256)
 set -eu
 in=${1:?usage: plot_perf.sh CSV_DIR OUT_DIR}

@@ -48,8 +48,8 @@ std::size_t ModelBuilder::add_cloth(const Eigen::Matrix3Xd& positions,
   // Each spring from its lower mass (a < b), ordered by that mass, highest first (stable).
   // Then every mass meets its springs (in index order, the scatter loop's) first as the a end
   // (its springs to higher masses), then as the b end: the gathered pass adds one run and
-  // subtracts one, with no sign per term (step.cpp). Turning a spring around changes no bit of
-  // its forces (dx and c dx only change sign); the order changes their rounding only.
+  // subtracts one, with no sign per term (spring_forces.cpp). Turning a spring around changes no
+  // bit of its forces (dx and c dx only change sign); the order changes their rounding only.
   std::vector<SpringSpec> sorted(springs.begin(), springs.end());
   for (auto& s : sorted)
     if (s.a > s.b) std::swap(s.a, s.b);

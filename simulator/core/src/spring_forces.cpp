@@ -173,8 +173,8 @@ void gathered_springs(const Model& model, const Eigen::Matrix3Xd& x, const doubl
     if (split && parts == split->threads) {
       // Block by block as on one thread (SpringSplit): the springs other threads need first,
       // then, chunk by chunk, the chunk's other springs and its masses. (All springs, then all
-      // masses, as below, made two threads spend 1.8x the cycles of one on the springs: the
-      // spring blocks went out of the caches between the two passes.)
+      // masses, as below, makes two threads spend 1.8x the cycles of one on the springs: the
+      // spring blocks leave the caches between the two passes.)
       const auto tt = static_cast<std::size_t>(t);
       pass(split->out_start[tt], split->out_start[tt + 1], split->out.data());
 #pragma omp barrier

@@ -304,8 +304,8 @@ StabilityReport analyse_stability(const Model& model, int lanczos_iterations) {
   r.springs_by_bound = !lanczos.converged && lanczos.omega > 0.0;
   r.omega_springs = r.springs_by_bound ? omega_max_bound(model, false) : lanczos.omega;
   r.omega_bound = omega_max_bound(model, true);
-  // Stiffnesses whose k / m overflows (--k-struct 1e308) left Lanczos no finite vector: it said
-  // 0 rad/s, and the run was let go to blow up; the bound tells.
+  // Stiffnesses whose k / m overflows (--k-struct 1e308) leave Lanczos no finite vector (it
+  // would say 0 rad/s and let the run blow up); the bound tells.
   if (!std::isfinite(r.omega_bound) || !std::isfinite(r.omega_springs))
     r.omega_springs = std::numeric_limits<double>::infinity();
   r.omega_contact = omega_contact(model);
@@ -314,12 +314,13 @@ StabilityReport analyse_stability(const Model& model, int lanczos_iterations) {
   r.zeta = m_max > 0.0 ? model.options.damping / (2.0 * m_max) : 0.0;
   r.dt_stable = stable_dt(model.options.integrator, r.omega_max, r.zeta);
   // The penalty contact is an explicit force in every integrator (the implicit ones solve only
-  // the springs implicitly: integrators.cpp), and a one-sided spring taken explicitly gains
-  // energy at each bounce as h omega_contact nears its linear limit 2: a point dropped 0.3 m
-  // rebounds 0.889 m at h omega_c = 1.8 (0.9 x 2 / omega_c, the safe step), 0.308 m at 1.0.
+  // the springs implicitly: implicit_euler.cpp, xpbd.cpp, fast_mass_spring.cpp), and a one-sided
+  // spring taken explicitly gains energy at each bounce as h omega_contact nears its linear
+  // limit 2: a point dropped 0.3 m rebounds 0.889 m at h omega_c = 1.8 (0.9 x 2 / omega_c, the
+  // safe step), 0.308 m at 1.0.
   // So the contact's own limit is set so that the safe step (0.9 dt_stable) has h omega_c = 1.
-  // Without it the implicit methods' guard said dt_stable inf, and a light cloth on a floor
-  // bounced ever higher at the default dt (a probe's XPBD scene: 8 m up after 3 s).
+  // Without it the implicit methods' guard says dt_stable inf, and a light cloth on a floor
+  // bounces ever higher at the default dt (XPBD: 8 m up after 3 s).
   const Integrator method = model.options.integrator;
   if (r.omega_contact > 0.0) {
     const double implicit_springs =

@@ -98,7 +98,7 @@ LaunchCount count_launched(const ColliderSet& set, std::size_t o, const Eigen::M
     if (!pinned.empty() && pinned[static_cast<std::size_t>(i)]) continue;  // held: not thrown
     const Eigen::Vector3d p = points.col(i);
     if (!p.allFinite()) continue;
-    // object o alone (all objects per object was objects^2 work)
+    // object o alone (all objects per object would be objects^2 work)
     const ColliderHit hit = set.query_object(o, p.data(), eps * eps, QueryMethod::Bvh, -1);
     if (!hit.valid()) continue;
     // signed as the force sees it: outside beside a sharp ridge is outside
@@ -154,7 +154,7 @@ std::vector<std::string> collider_warnings(const Model& model, double work_budge
                     " edges used twice the same way): the cloth is pushed into it where they point inwards; fix "
                     "the export (Blender: Recalculate Outside)");
     // Masses that start deep in the contact band are thrown out of it at once (an epsilon as
-    // large as the scene, a cloth placed just above a floor): a dice cloth at --epsilon 3 flew
+    // large as the scene, a cloth placed just above a floor): a dice cloth at --epsilon 3 flies
     // 100 m up, a 1 cm cloth with the default 0.1 m band 7 km.
     {
       const double g = gravity(model.options).norm();

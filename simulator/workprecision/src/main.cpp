@@ -1,4 +1,5 @@
-// clothsim_wp: the work-precision report of issue 5 for the baked scenes it was built with.
+// clothsim_wp: the work-precision report (docs/work-precision.md) for the baked scenes it is
+// built with.
 //   clothsim_wp --out docs/wp                      full study (minutes)
 //   clothsim_wp --fast --out build/wp-smoke        a short smoke run (ctest)
 #include <clothsim/integrators.hpp>
@@ -125,7 +126,7 @@ int main(int argc, char** argv) {
   bool fast = false;
   double horizon = 0.0;
   int levels = 0, repeats = -1;
-  // A finite number > 0 (CLI11's PositiveNumber let nan through, and printed its range as 0 to
+  // A finite number > 0 (CLI11's PositiveNumber lets nan through, and prints its range as 0 to
   // a 309-digit number).
   const auto finite_positive = CLI::Validator(
       [](std::string& text) -> std::string {
@@ -183,7 +184,7 @@ int main(int argc, char** argv) {
                 << clothsim::integrator_names() << ")\n";
       return 2;
     }
-    // (given twice, its points were merged and its order came out as nonsense)
+    // (given twice, its points would merge and its fitted order would be nonsense)
     if (std::find(settings.methods.begin(), settings.methods.end(), *m) != settings.methods.end()) {
       std::cerr << "clothsim_wp: error: --integrators: '" << name << "' given twice\n";
       return 2;
@@ -223,7 +224,7 @@ int main(int argc, char** argv) {
     for (const auto& e : todo) model_cost(e, o_scale->count() ? stiffness_scale : 1.0);
     return 0;
   }
-  // The outputs <out>/<label>.csv/.svg before the study (minutes): a bad path is bad input now.
+  // The outputs <out>/<label>.csv/.svg, checked before the study (minutes): a bad path is bad input.
   auto label_of = [stiffness_scale](const SceneEntry& e) {
     if (stiffness_scale == 1.0) return std::string(e.name);
     std::ostringstream o;
