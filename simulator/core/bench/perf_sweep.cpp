@@ -202,11 +202,19 @@ constexpr const char* kUsage =
     "  --brute-pairs P  point-triangle pairs per brute-force repetition (default 3e7; 1..1e11)\n"
     "Exit codes: 0 ok, 1 a 2-thread run differed or a CSV could not be written, 2 bad usage.\n";
 
-int main(int argc, char** argv) {
+namespace {
+
+// The sweep's settings from the command line.
+struct Args {
   bool quick = false;
   std::string csv_dir;
   int max_n = 512, max_level = 8;
   double brute_pairs = 3e7;
+  std::string path(const char* name) const { return csv_dir.empty() ? std::string() : csv_dir + "/" + name; }
+};
+
+// Reads the command line into `a`; -1 to go on, else the exit code (help: 0, bad input: 2).
+int parse_args(int argc, char** argv, Args& args) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -221,17 +229,17 @@ int main(int argc, char** argv) {
       std::fputs(kUsage, stdout);
       return 0;
     } else if (a == "--quick") {
-      quick = true;
+      args.quick = true;
     } else if (a == "--csv") {
-      csv_dir = next();
+      args.csv_dir = next();
     } else if (a == "--reps") {
       number = whole_int(next(), g_reps);
     } else if (a == "--max-n") {
-      number = whole_int(next(), max_n);
+      number = whole_int(next(), args.max_n);
     } else if (a == "--max-level") {
-      number = whole_int(next(), max_level);
+      number = whole_int(next(), args.max_level);
     } else if (a == "--brute-pairs") {
-      number = whole_double(next(), brute_pairs);
+      number = whole_double(next(), args.brute_pairs);
     } else {
       std::cerr << "perf_sweep: error: unknown option '" << a << "' (perf_sweep --help lists them)\n";
       return 2;
@@ -242,39 +250,37 @@ int main(int argc, char** argv) {
     }
   }
   // (upper limits: --max-n 70000 or --max-level 17 run out of memory and abort)
-  if (g_reps < 1 || g_reps > 1000 || max_n < 16 || max_n > 2048 || max_level < 3 || max_level > 9 || brute_pairs < 1 ||
-      brute_pairs > 1e11) {
+  if (g_reps < 1 || g_reps > 1000 || args.max_n < 16 || args.max_n > 2048 || args.max_level < 3 ||
+      args.max_level > 9 || args.brute_pairs < 1 || args.brute_pairs > 1e11) {
     std::cerr << "perf_sweep: error: need --reps 1..1000, --max-n 16..2048, --max-level 3..9 (20 * 4^9 = 5.2M "
                  "triangles), --brute-pairs 1..1e11\n";
     return 2;
   }
-  if (quick) max_n = std::min(max_n, 64), max_level = std::min(max_level, 4), g_reps = std::min(g_reps, 2);
-  auto path = [&](const char* name) { return csv_dir.empty() ? std::string() : csv_dir + "/" + name; };
-  if (!csv_dir.empty()) {  // before the sweep: a bad folder is found at once, not after minutes
-    std::error_code ec;
-    std::filesystem::create_directories(csv_dir, ec);
-    if (ec || !std::filesystem::is_directory(csv_dir)) {
-      std::cerr << "perf_sweep: error: --csv " << csv_dir << ": "
-                << (ec ? ec.message() : std::string("not a directory")) << "\n";
-      return 2;
-    }
-    for (const char* name : {"springs.csv", "collision.csv", "collision_speed.csv", "skirt.csv"}) {
-      std::ofstream probe(path(name), std::ios::app);
-      if (!probe) {
-        std::cerr << "perf_sweep: error: --csv: cannot write '" << path(name) << "'\n";
-        return 2;
-      }
-    }
+  if (args.quick)
+    args.max_n = std::min(args.max_n, 64), args.max_level = std::min(args.max_level, 4), g_reps = std::min(g_reps, 2);
+  return -1;
+}
+
+// The CSV folder, made and probed before the sweep: a bad folder is found at once, not after
+// minutes. Empty, or the error.
+std::string check_csv_dir(const Args& args) {
+  if (args.csv_dir.empty()) return {};
+  std::error_code ec;
+  std::filesystem::create_directories(args.csv_dir, ec);
+  if (ec || !std::filesystem::is_directory(args.csv_dir))
+    return "--csv " + args.csv_dir + ": " + (ec ? ec.message() : std::string("not a directory"));
+  for (const char* name : {"springs.csv", "collision.csv", "collision_speed.csv", "skirt.csv"}) {
+    std::ofstream probe(args.path(name), std::ios::app);
+    if (!probe) return "--csv: cannot write '" + args.path(name) + "'";
   }
+  return {};
+}
 
-  double load[3] = {0, 0, 0};
-  if (getloadavg(load, 3) < 0) load[0] = -1;
-  std::printf("perf_sweep: %d repetitions (min), load average %.2f, threads 1 and 2\n\n", g_reps, load[0]);
-
+// Springs and the step without a collider, per N; false when 2 threads differed from one.
+bool springs_table(const Args& args) {
+  const int max_n = args.max_n;
   bool all_identical = true;
-  {  // the CSV files' scope
-  // --- springs and the step without a collider, per N ---------------------------------
-  Csv csv_s(path("springs.csv"),
+  Csv csv_s(args.path("springs.csv"),
             "n,masses,springs,scatter_ns_per_spring,gather1_ns_per_spring,gather2_ns_per_spring,"
             "step1_ms,step2_ms,speedup2,identical,model_B_per_mass,state_B_per_mass,workspace_B_per_mass");
   std::printf("springs (no collider)                     ns per spring per step       |  step ms (no collider)        | bytes per mass\n");
@@ -306,8 +312,15 @@ int main(int argc, char** argv) {
               st2 * 1e3, st1 / st2, same ? 1 : 0, mem.model, mem.state, mem.workspace);
   }
 
-  // --- collision and the full step, per (N, T) ---------------------------------------------
-  Csv csv_c(path("collision.csv"),
+  return all_identical;
+}
+
+// Collision and the full step, per (N, T); false when 2 threads differed from one.
+bool collision_table(const Args& args) {
+  const int max_n = args.max_n, max_level = args.max_level;
+  const double brute_pairs = args.brute_pairs;
+  bool all_identical = true;
+  Csv csv_c(args.path("collision.csv"),
             "n,masses,triangles,bvh_bytes_per_triangle,bvh_ns_per_mass,cache_ns_per_mass,certified,"
             "brute_ns_per_mass,brute_masses,step1_ms,step2_ms,identical,cache1_ns_per_mass");
   std::printf("\ncollision (cloth 0.05 m over a unit icosphere, eps 0.1; sliding 1 mm per call)  ns per mass  |  step ms\n");
@@ -358,10 +371,16 @@ int main(int argc, char** argv) {
     }
   }
 
-  // --- collision per speed: the N x N cloth (N = 256 or --max-n) sliding over the sphere ----------
+  return all_identical;
+}
+
+// Collision per speed: the N x N cloth (N = 256 or --max-n) sliding over the sphere.
+void collision_speed_table(const Args& args) {
+  const int max_level = args.max_level;
+  const bool quick = args.quick;
   {
-    const int n = std::min(max_n, 256);
-    Csv csv_m(path("collision_speed.csv"),
+    const int n = std::min(args.max_n, 256);
+    Csv csv_m(args.path("collision_speed.csv"),
               "n,masses,triangles,step_m_per_call,hints_ns_per_mass,cache1_ns_per_mass,cache1_certified,"
               "cache_ns_per_mass,cache_certified,candidates,cache_bytes_per_mass");
     std::printf("\ncollision per speed (%d x %d cloth sliding over the sphere; ns per mass; K = %zu candidates)\n", n, n,
@@ -389,8 +408,12 @@ int main(int argc, char** argv) {
     }
   }
 
-  // --- the baked skirts -------------------------------------------------------------------------
-  Csv csv_k(path("skirt.csv"),
+}
+
+// The baked skirts, after a second of simulation.
+void baked_table(const Args& args) {
+  const bool quick = args.quick;
+  Csv csv_k(args.path("skirt.csv"),
             "scene,masses,springs,triangles,step1_us,step2_us,bvh_ns_per_mass,brute_ns_per_mass,realtime_factor");
   const double settle = quick ? 0.2 : 1.0;  // s: on the sphere (first contact at ~0.58 s)
   std::printf("\nbaked scenes (after %.1f s of simulation)   step us           | collision ns per mass       | real time\n",
@@ -399,9 +422,25 @@ int main(int argc, char** argv) {
               "1 thr", "2 thr", "x", "bvh+hint", "brute", "ratio", "factor");
   skirt_table("skirt", b2o::gen::skirt::scene, settle, csv_k);
   skirt_table("skirt_hires", b2o::gen::skirt_hires::scene, settle, csv_k);
-  }  // (the CSV files are closed here, and a failed write said)
+}
 
-  if (!all_identical) {
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args args;
+  if (const int code = parse_args(argc, argv, args); code >= 0) return code;
+  if (const std::string why = check_csv_dir(args); !why.empty()) {
+    std::cerr << "perf_sweep: error: " << why << "\n";
+    return 2;
+  }
+  double load[3] = {0, 0, 0};
+  if (getloadavg(load, 3) < 0) load[0] = -1;
+  std::printf("perf_sweep: %d repetitions (min), load average %.2f, threads 1 and 2\n\n", g_reps, load[0]);
+  const bool springs_same = springs_table(args);  // (each table's CSV file is closed, and a failed write said,
+  const bool collision_same = collision_table(args);  // at the end of its function)
+  collision_speed_table(args);
+  baked_table(args);
+  if (!springs_same || !collision_same) {
     std::printf("\nperf_sweep: error: a 2-thread run differed from the 1-thread run\n");
     return 1;
   }
