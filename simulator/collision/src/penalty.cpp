@@ -41,7 +41,8 @@ namespace {
 void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matrix3Xd>& x, double eps,
                      double k_rep, Eigen::Ref<Eigen::Matrix3Xd>& f, PenaltyStats& stats, std::span<std::int32_t> hints,
                      ContactCache* cache, QueryMethod method, std::size_t begin = 0,
-                     std::size_t end = std::numeric_limits<std::size_t>::max()) {
+                     std::size_t end = std::numeric_limits<std::size_t>::max(), double rest = -1.0) {
+  if (rest < 0.0) rest = eps;
   if (!set.built()) throw std::logic_error("accumulate_penalty(): ColliderSet not built");
   if (!(eps > 0.0) || !std::isfinite(eps) || !(k_rep >= 0.0) || !std::isfinite(k_rep))
     throw std::invalid_argument("accumulate_penalty(): need eps > 0 and k_rep >= 0, finite");
@@ -69,7 +70,7 @@ void accumulate_impl(const ColliderSet& set, const Eigen::Ref<const Eigen::Matri
   const double* px = x.data();
   double* pf = f.data();
   const Eigen::Index xs = x.outerStride(), fs = f.outerStride();
-  detail::PenaltyPass pass{set, eps, k_rep, stats, hints, cache, method, no, reach_sq, planes, lo, hi,
+  detail::PenaltyPass pass{set, eps, k_rep, rest, stats, hints, cache, method, no, reach_sq, planes, lo, hi,
                            px, pf, xs, fs};
   std::size_t i = begin;
 #ifdef CLOTHSIM_AVX2
@@ -104,6 +105,16 @@ void accumulate_penalty(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3X
   if (begin > end || end > static_cast<std::size_t>(x.cols()))
     throw std::invalid_argument("accumulate_penalty(): point range outside the cloth");
   accumulate_impl(set, x, eps, k_rep, f, stats, {}, &cache, method, begin, end);
+}
+
+void accumulate_push(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3Xd> x, std::size_t begin,
+                     std::size_t end, double distance, double band, Eigen::Ref<Eigen::Matrix3Xd> push,
+                     PenaltyStats& stats, ContactCache& cache) {
+  if (begin > end || end > static_cast<std::size_t>(x.cols()))
+    throw std::invalid_argument("accumulate_push(): point range outside the cloth");
+  if (!(distance > 0.0) || !(band >= distance) || !std::isfinite(band))
+    throw std::invalid_argument("accumulate_push(): need 0 < distance <= band, finite");
+  accumulate_impl(set, x, band, 1.0, push, stats, {}, &cache, QueryMethod::Bvh, begin, end, distance);
 }
 
 }  // namespace clothsim

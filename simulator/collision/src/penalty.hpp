@@ -72,6 +72,7 @@ struct PenaltyLoop {
 struct PenaltyPass {
   const ColliderSet& set;
   double eps, k_rep;
+  double rest;           ///< where the force ends: eps for the penalty, the contact distance for a push
   PenaltyStats& stats;
   std::span<std::int32_t> hints;
   ContactCache* cache;
@@ -84,16 +85,17 @@ struct PenaltyPass {
   double* pf;            ///< f, column i at pf + i * fs
   Eigen::Index xs, fs;
 
-  // Eq. 12 for one (point, object) answer: d signed distance, n unit normal.
+  // Eq. 12 for one (point, object) answer: d signed distance, n unit normal (rest = eps: the
+  // penalty; rest < eps: a push to the distance rest, seen within the band eps).
   void respond(double* fi, double d, const double* nrm) {
     if (d < 0.0) stats.max_penetration = std::max(stats.max_penetration, -d);
-    if (d > eps) return;
+    if (d > rest) return;
     if (d < -eps) {
       ++stats.tunnelled;
       return;
     }
     ++stats.contacts;
-    const double c = k_rep * (eps - d);  // f_i += (k_rep (eps - d)) n
+    const double c = k_rep * (rest - d);  // f_i += (k_rep (rest - d)) n
     fi[0] += c * nrm[0];
     fi[1] += c * nrm[1];
     fi[2] += c * nrm[2];

@@ -70,7 +70,7 @@ __attribute__((target("avx2"), always_inline)) inline __m128i half(__m256d v, __
 /// reach that it did not answer.
 __attribute__((target("avx2"), always_inline)) inline unsigned plane_lanes_avx2(
     const __m256d p[3], const ContactCache::Entry* e, std::size_t stride, const double* lo, const double* hi,
-    double reach_sq, double eps, double k_rep, double* f, PenaltyStats& stats) {
+    double reach_sq, double eps, double k_rep, double rest, double* f, PenaltyStats& stats) {
   const __m256d zero = _mm256_setzero_pd();
   const __m256d reach =  // not out_of_reach()
       _mm256_cmp_pd(box_dist_sq_lanes(p, lo, hi), _mm256_set1_pd(reach_sq), _CMP_NGT_UQ);
@@ -114,13 +114,13 @@ __attribute__((target("avx2"), always_inline)) inline unsigned plane_lanes_avx2(
     alignas(32) double depth[4];
     _mm256_store_pd(depth, _mm256_and_pd(behind, _mm256_sub_pd(zero, d)));
     for (double v : depth) stats.max_penetration = std::max(stats.max_penetration, v);
-    const __m256d veps = _mm256_set1_pd(eps);
-    const __m256d near = _mm256_and_pd(face, _mm256_cmp_pd(d, veps, _CMP_NGT_UQ));
+    const __m256d veps = _mm256_set1_pd(eps), vrest = _mm256_set1_pd(rest);
+    const __m256d near = _mm256_and_pd(face, _mm256_cmp_pd(d, vrest, _CMP_NGT_UQ));
     const __m256d tunnelled = _mm256_and_pd(near, _mm256_cmp_pd(d, _mm256_sub_pd(zero, veps), _CMP_LT_OQ));
     const int contact = _mm256_movemask_pd(_mm256_andnot_pd(tunnelled, near));
     stats.tunnelled += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(_mm256_movemask_pd(tunnelled))));
     if (contact != 0) {
-      const __m256d c = _mm256_mul_pd(_mm256_set1_pd(k_rep), _mm256_sub_pd(veps, d));  // k_rep (eps - d)
+      const __m256d c = _mm256_mul_pd(_mm256_set1_pd(k_rep), _mm256_sub_pd(vrest, d));  // k_rep (rest - d)
       __m256d cn[3];
       for (int k = 0; k < 3; ++k) cn[k] = _mm256_mul_pd(c, n[k]);
       // f_i += c n in lanes, only where in contact (the others keep their bits)
@@ -150,7 +150,7 @@ __attribute__((target("avx2"))) std::size_t groups_avx2(PenaltyPass& pass, std::
   ContactCache& cache = *pass.cache;
   const Eigen::Vector3d& lo = pass.lo;
   const Eigen::Vector3d& hi = pass.hi;
-  const double reach_sq = pass.reach_sq, eps = pass.eps, k_rep = pass.k_rep;
+  const double reach_sq = pass.reach_sq, eps = pass.eps, k_rep = pass.k_rep, to = pass.rest;
   PenaltyStats& stats = pass.stats;
   const std::size_t no = set.object_count();
   const __m256d zero = _mm256_setzero_pd(), limit = _mm256_set1_pd(reach_sq);
@@ -171,7 +171,7 @@ __attribute__((target("avx2"))) std::size_t groups_avx2(PenaltyPass& pass, std::
       const double *olo, *ohi;
       if (!detail::PenaltyLoop::box(set, o, olo, ohi)) continue;  // no triangles: out of reach
       for (unsigned rest = plane_lanes_avx2(p, &cache.entries[i * no + o], no, olo, ohi, reach_sq, eps, k_rep,
-                                            f + 3 * i, stats);
+                                            to, f + 3 * i, stats);
            rest != 0; rest &= rest - 1) {
         const auto l = static_cast<std::size_t>(__builtin_ctz(rest));
         const double* xl = x + 3 * (i + l);

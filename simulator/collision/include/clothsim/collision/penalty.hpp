@@ -50,4 +50,15 @@ void accumulate_penalty(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3X
                         Eigen::Ref<Eigen::Matrix3Xd> f, PenaltyStats& stats, ContactCache& cache,
                         QueryMethod method = QueryMethod::Bvh);
 
+/// Position-based contact, for the points [begin, end) of x: for each point i and collider
+/// object, with d the signed distance to the object's closest triangle (normal n), seen within
+/// the band (searched to 2 band behind a surface):
+///   -band <= d <= distance: push_i += (distance - d) n   (the move that puts i at `distance`)
+/// The cache's band is `band` (call cache.tick() and cache.use_band(band) once per call of
+/// the whole cloth, as the penalty's ranges do). `push` is added to. Throws
+/// std::invalid_argument unless 0 < distance <= band.
+void accumulate_push(const ColliderSet& set, Eigen::Ref<const Eigen::Matrix3Xd> x, std::size_t begin,
+                     std::size_t end, double distance, double band, Eigen::Ref<Eigen::Matrix3Xd> push,
+                     PenaltyStats& stats, ContactCache& cache);
+
 }  // namespace clothsim
