@@ -66,7 +66,7 @@ TEST(AppParams, ABakedGravityVectorIsShownAndItsReplacementSaid) {
   std::string ignored;
   EXPECT_EQ(run(hand.scene, {"--help"}, ignored), 0);
   const std::string help = ::testing::internal::GetCapturedStdout();
-  EXPECT_NE(help.find("--gravity-x   0 (scene 'hand': 3)"), std::string::npos) << help;
+  EXPECT_NE(help.find("--gravity-x       0 (scene 'hand': 3)"), std::string::npos) << help;
   EXPECT_EQ(run(hand.scene, {"--headless", "--steps", "2", "--gravity", "9.81"}, err), 0) << err;
   EXPECT_NE(err.find("--gravity 9.81 replaces the scene's gravity (3, -9.81, 0) by (0, -9.81, 0)"), std::string::npos)
       << err;

@@ -493,7 +493,7 @@ TEST(Cli, HeadlessScreenshotOrFramesIsRefused) {
 
 // The guard's refusal says what is true: with damping 0.1 it never says "no damping".
 TEST(Cli, UnstableIntegratorMessageTellsTheTruthAboutDamping) {
-  const Result heavy = run("--headless --quiet --steps 5 --integrator xpbd --mass 1e-45");
+  const Result heavy = run("--headless --quiet --steps 5 --integrator symplectic-euler --mass 1e-45");
   EXPECT_EQ(heavy.code, 2) << heavy.output;
   EXPECT_EQ(heavy.output.find("no damping"), std::string::npos) << heavy.output;
   EXPECT_NE(heavy.output.find("substeps"), std::string::npos) << heavy.output;  // dt_stable is tiny

@@ -61,7 +61,8 @@ file(WRITE "${src}/CMakeLists.txt" "${block_cmake}")
 file(WRITE "${src}/main.cpp" "${block_cpp}")
 file(COPY "${MODEL}" DESTINATION "${src}")
 run(${CMAKE_COMMAND} -S "${src}" -B "${bin}" -G Ninja -DCMAKE_BUILD_TYPE=Release "-DCMAKE_PREFIX_PATH=${prefix}"
-    "-DCMAKE_CXX_FLAGS=-Wall -Wextra -Werror")
+    "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}" "-DCMAKE_CXX_FLAGS=${CXX_FLAGS} -Wall -Wextra -Werror"
+    "-DCMAKE_EXE_LINKER_FLAGS=${LINKER_FLAGS}")
 run(${CMAKE_COMMAND} --build "${bin}")
 run("${bin}/curtain")
 # 49 masses, two of them pinned at y = 2: after 2 s it hangs, its lowest row between 0.6 and

@@ -12,7 +12,7 @@ namespace clothsim {
 namespace {
 
 TEST(Step, NeverAllocates) {
-  Options o;
+  Options o = seed_options();
   ModelBuilder mb(o, "grid on a floor");
   const auto springs = test::grid_springs(10, 10);
   mb.add_cloth(test::grid_positions(10, 10, 0.1, 0.3), springs, std::vector<std::uint32_t>{0});

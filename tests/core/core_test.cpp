@@ -15,7 +15,7 @@ namespace clothsim {
 namespace {
 
 Options no_gravity() {
-  Options o;
+  Options o = seed_options();
   o.gravity_x = o.gravity_y = o.gravity_z = 0.0;
   o.damping = 0.0;
   return o;
@@ -100,7 +100,7 @@ TEST(Integrator, DampedOscillatorMatchesClosedFormToFirstOrder) {
 }
 
 TEST(Integrator, FreeFallFollowsTheSymplecticEulerRecurrence) {
-  Options o;
+  Options o = seed_options();
   o.damping = 0.07;
   o.dt = 0.01;
   ModelBuilder mb(o);
@@ -137,7 +137,7 @@ TEST(Integrator, FreeFallFollowsTheSymplecticEulerRecurrence) {
 }
 
 TEST(Integrator, HangingChainReachesTheAnalyticEquilibrium) {
-  Options o;
+  Options o = seed_options();
   o.damping = 1.0;  // beta = 5/s: every mode rings down within a few seconds
   o.dt = 0.005;
   const int n = 10;
@@ -163,7 +163,7 @@ TEST(Integrator, HangingChainReachesTheAnalyticEquilibrium) {
 }
 
 TEST(Integrator, PinnedMassesStayBitIdentical) {
-  Options o;
+  Options o = seed_options();
   Model m = test::grid_model(o, 6, 6, {0, 5});
   m.x0(0, 5) = -0.0 * m.x0(0, 5);  // a negative zero must survive
   m.x0(1, 5) = -0.0;
@@ -179,7 +179,7 @@ TEST(Integrator, PinnedMassesStayBitIdentical) {
 }
 
 TEST(Integrator, SameRunTwiceIsBitIdentical) {
-  Options o;
+  Options o = seed_options();
   const Model m = test::grid_model(o, 8, 8, {0, 7});
   auto run = [&m] {
     State s = make_state(m);
@@ -191,7 +191,7 @@ TEST(Integrator, SameRunTwiceIsBitIdentical) {
 }
 
 TEST(Integrator, StepDoesNotChangeTheModelAndCountsTime) {
-  Options o;
+  Options o = seed_options();
   const Model m = test::grid_model(o, 4, 4, {0});
   const Eigen::Matrix3Xd x0 = m.x0;
   State s = make_state(m);
@@ -222,7 +222,7 @@ TEST(Stability, GershgorinStepIsStableAndTwiceItBlowsUp) {
 }
 
 TEST(Integrator, NonFiniteIsReported) {
-  Options o;
+  Options o = seed_options();
   o.dt = 1.0;  // far above the stability limit
   const Model m = test::grid_model(o, 5, 5, {0});
   State s = make_state(m);
@@ -262,7 +262,7 @@ TEST(Drag, TargetBeyondTheReachPullsAsAtTheReach) {
 
 TEST(Options, ValidateRefusesBadValues) {
   EXPECT_EQ(validate_options(Options{}), "");
-  Options o;
+  Options o = seed_options();
   o.dt = 0.0;
   EXPECT_NE(validate_options(o).find("dt"), std::string::npos);
   o = Options{};
@@ -280,7 +280,7 @@ TEST(Options, ValidateRefusesBadValues) {
 }
 
 TEST(Builder, RefusesBadIndices) {
-  ModelBuilder mb(Options{});
+  ModelBuilder mb(seed_options());
   Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Zero(3, 2);
   const SpringSpec bad{0, 2, 0};
   EXPECT_THROW(mb.add_cloth(x, std::span(&bad, 1), {}), std::invalid_argument);
@@ -291,7 +291,7 @@ TEST(Builder, RefusesBadIndices) {
 }
 
 TEST(Builder, ConcatenatesClothsWithGlobalIndices) {
-  ModelBuilder mb(Options{});
+  ModelBuilder mb(seed_options());
   const auto sp = test::grid_springs(2, 2);
   mb.add_cloth(test::grid_positions(2, 2, 0.1, 0.0), sp, {});
   const std::uint32_t pin = 1;
@@ -318,7 +318,7 @@ TEST(Step, FiniteCheckFindsOneNonFiniteValueAnywhere) {
   const Eigen::Index n = 5002;  // above the threaded check's 4096 values; 4 masses a block: 2 left over
   Eigen::Matrix3Xd pos(3, n);
   for (Eigen::Index i = 0; i < n; ++i) pos.col(i) = Eigen::Vector3d(0.01 * static_cast<double>(i), 1.0, 0.0);
-  ModelBuilder mb(Options{});
+  ModelBuilder mb(seed_options());
   const std::uint32_t pins[] = {2, static_cast<std::uint32_t>(n - 2)};  // in a block, left over
   mb.add_cloth(pos, {}, pins);
   const Model m = mb.build();
@@ -354,7 +354,7 @@ TEST(Step, FiniteCheckFindsOneNonFiniteValueAnywhere) {
 // keeping the springs (ends, kind, rest length) and the order of equals: then each mass meets
 // its springs, in index order, first as the a end and then as the b end.
 TEST(Builder, OrdersSpringsSoThatEachMassMeetsItsAEndsFirst) {
-  ModelBuilder mb(Options{});
+  ModelBuilder mb(seed_options());
   std::vector<SpringSpec> sp = test::grid_springs(5, 4);
   for (std::size_t s = 0; s < sp.size(); s += 3) std::swap(sp[s].a, sp[s].b);  // some turned around
   sp[1].rest_length = 0.25;
@@ -399,7 +399,7 @@ class RestingOnFloor : public ::testing::TestWithParam<double> {};
 // A mass dropped onto a floor rests at height d = eps - m g / k_rep above the surface,
 // where the penalty k_rep (eps - d) carries its weight m g.
 TEST_P(RestingOnFloor, DepthIsEpsMinusWeightOverKRep) {
-  Options o;
+  Options o = seed_options();
   o.k_rep = GetParam();
   o.damping = 2.0;  // rings down within a few hundred steps
   ModelBuilder mb(o, "floor");

@@ -14,7 +14,7 @@ namespace clothsim {
 namespace {
 
 long allocations_in_steps(Integrator method) {
-  Options o;
+  Options o = seed_options();
   o.integrator = method;
   o.dt = method == Integrator::ExplicitEuler ? 1e-4 : 0.002;
   ModelBuilder mb(o, "grid on a floor");

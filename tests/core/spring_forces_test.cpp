@@ -106,7 +106,7 @@ TEST(Gather, ChainsWithOneToNineEndsOfEachKind) {
     for (std::uint32_t i = 0; i < n; ++i)
       for (std::uint32_t j = i + 1; j <= i + k && j < n; ++j)
         springs.push_back(SpringSpec{i, j, static_cast<std::uint8_t>(j - i > 1), 0.05 * (j - i)});
-    ModelBuilder b(Options{}, "chain");
+    ModelBuilder b(seed_options(), "chain");
     b.add_cloth(x, springs, {});
     const Model m = b.build();
     const SpringAdjacency adj = SpringAdjacency::build(m);

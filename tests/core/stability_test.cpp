@@ -43,7 +43,7 @@ double dense_omega_max(const Model& m, const Eigen::Matrix3Xd& x) {
 }
 
 TEST(StabilityGuard, LanczosMatchesADenseEigensolver) {
-  Options o;
+  Options o = seed_options();
   o.k_struct = 700.0;
   o.k_bend = 90.0;
   Model m = test::grid_model(o, 14, 11, {0u, 13u});
@@ -67,7 +67,7 @@ TEST(StabilityGuard, LanczosMatchesADenseEigensolver) {
 }
 
 TEST(StabilityGuard, LanczosConvergesInAFewHundredIterationsOnA128x128Cloth) {
-  Options o;
+  Options o = seed_options();
   o.mass = 2e-4;
   const Model m = test::grid_model(o, 128, 128, {0u, 127u});
   const OmegaEstimate est = omega_max_lanczos(m);
@@ -85,7 +85,7 @@ TEST(StabilityGuard, LanczosConvergesInAFewHundredIterationsOnA128x128Cloth) {
 // Lanczos stopped by its cap before converging: its Ritz value may be short of omega_max, so
 // the guard takes Gershgorin's safe bound for the springs instead, and says so.
 TEST(StabilityGuard, UnconvergedLanczosFallsBackToTheSafeBound) {
-  Options o;
+  Options o = seed_options();
   o.mass = 2e-4;
   const Model m = test::grid_model(o, 64, 64, {0u, 63u});
   const OmegaEstimate few = omega_max_lanczos(m, nullptr, 3);

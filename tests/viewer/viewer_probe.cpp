@@ -48,7 +48,8 @@ int main(int argc, char** argv) {
       hand.scene.textures = &texture;
       hand.scene.texture_count = 1;
     }
-    clothsim::Options options = clothsim::scene_options(hand.scene);
+    // (a spring constant is the seed model's: --k-struct makes the probe's cloth the 2016 one)
+    clothsim::Options options = k_struct > 0.0 ? clothsim::seed_options() : clothsim::scene_options(hand.scene);
     if (dt > 0.0) options.dt = dt;
     if (k_struct > 0.0) options.k_struct = k_struct;
     const clothsim::Model model = clothsim::build_model(hand.scene, options);

@@ -73,15 +73,23 @@ std::string option_help(const OptionInfo& o) {
 }
 
 // The table's defaults next to the scene's baked values, for --help's footer.
-std::string defaults_footer(const b2o::Scene& scene, const Options& baked) {
+std::string defaults_footer(const b2o::Scene& scene, const BakedParams& baked) {
   const Options defaults{};
+  Options runs = baked.options;  // what the scene runs with (its material's values filled in)
+  try {
+    runs = resolve_options(baked.options, baked.seed_given);
+  } catch (const ModelMismatch&) {  // (said when it runs)
+  }
+  const OptionGroup unused = is_seed(runs) ? OptionGroup::Material : OptionGroup::Seed;
   std::ostringstream foot;
-  foot << "Options of the table: built-in default, and where scene '" << scene.name << "' bakes another value, "
-       << "the scene's:\n";
+  foot << "Options of the table: built-in default, and where scene '" << scene.name << "' runs with another value, "
+       << "the scene's (material " << find_option("material")->text(runs) << "; the "
+       << (unused == OptionGroup::Seed ? "seed model's" : "materials'") << " options are not used):\n";
   for (const OptionInfo& o : option_table()) {
-    const std::string d = o.text(defaults), s = o.text(baked), flag = o.flag();
-    foot << "  " << flag << std::string(flag.size() < 14 ? 14 - flag.size() : 1, ' ') << d;
-    if (s != d) foot << " (scene '" << scene.name << "': " << s << ')';
+    const std::string d = o.text(defaults), s = o.text(runs), flag = o.flag();
+    foot << "  " << flag << std::string(flag.size() < 18 ? 18 - flag.size() : 1, ' ') << d;
+    if (o.group == unused) foot << " (not used)";
+    else if (s != d) foot << " (scene '" << scene.name << "': " << s << ')';
     foot << '\n';
   }
   foot << "  --gravity G   sets the gravity to (0, -G, 0) m/s^2\n"
@@ -178,6 +186,8 @@ void add_option_flags(CLI::App& app, Flags& f) {
     if (o->get_name().rfind("--gravity-", 0) == 0) f.gravity->excludes(o);
 }
 
+std::string resolve_model(RunConfig& c, const BakedParams& baked, const std::string& baked_note);
+
 // The scene's baked values with the user's on top; empty, or the error.
 std::string apply_options(RunConfig& c, const Flags& f, const b2o::Scene& scene, const BakedParams& baked) {
   const auto table = option_table();
@@ -199,15 +209,39 @@ std::string apply_options(RunConfig& c, const Flags& f, const b2o::Scene& scene,
     c.options.gravity_z = 0.0;
   }
   // A value the scene bakes and the command line does not replace.
+  const std::string baked_note = ", baked into scene '" + std::string(scene.name) +
+                                 "' (its PARAMS in generated/CMakeLists.txt); give the option on the command line to "
+                                 "override it";
   for (const BakedParams::Refused& r : baked.refused) {
     const OptionInfo* o = find_option(r.key);
     const bool replaced = f.table[static_cast<std::size_t>(o - table.data())]->count() > 0 ||
                           (f.gravity->count() > 0 && r.key.rfind("gravity_", 0) == 0);
-    if (!replaced)
-      return r.key + " " + r.why + ", baked into scene '" + scene.name +
-             "' (its PARAMS in generated/CMakeLists.txt); give the option on the command line to override it";
+    if (!replaced) return r.key + " " + r.why + baked_note;
   }
-  return validate_options(c.options);
+  if (std::string why = validate_options(c.options); !why.empty()) return why;
+  return resolve_model(c, baked, baked_note);
+}
+
+// The material and integrator decided (resolve_options()): an option of the seed model, baked
+// or given, selects it; a material given here sets the scene's options of the other model back
+// to their defaults. Empty, or the error naming the option that belongs to the other model.
+std::string resolve_model(RunConfig& c, const BakedParams& baked, const std::string& baked_note) {
+  bool seed_given = baked.seed_given;
+  for (const std::string& name : c.options_given) seed_given |= find_option(name)->group == OptionGroup::Seed;
+  if (c.given("material") && c.options.material != Material::Auto) {
+    const OptionGroup other = c.options.material == Material::Seed ? OptionGroup::Material : OptionGroup::Seed;
+    const Options defaults{};
+    for (const OptionInfo& o : option_table())
+      if (o.group == other && !c.given(o.name)) o.set(c.options, o.text(defaults));
+    seed_given = c.options.material == Material::Seed;
+  }
+  try {
+    c.options = resolve_options(c.options, seed_given);
+  } catch (const ModelMismatch& e) {
+    return c.given(e.option) ? std::string(find_option(e.option)->flag()) + std::string(e.what()).substr(e.option.size())
+                             : e.what() + baked_note;
+  }
+  return {};
 }
 
 // The run's own counts and choices; empty, or the error.
@@ -256,7 +290,7 @@ Parsed parse_command_line(int argc, char** argv, const b2o::Scene& scene) {
   add_run_flags(app, c, f);
   add_option_flags(app, f);
   add_viewer_flags(app, c, f);
-  app.footer(defaults_footer(scene, c.scene_options));
+  app.footer(defaults_footer(scene, baked));
 
   std::vector<std::string> args = rewrite_seed_aliases(argc, argv);
   std::reverse(args.begin(), args.end());  // CLI11 parses a reversed vector

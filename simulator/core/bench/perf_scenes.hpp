@@ -78,7 +78,7 @@ inline std::shared_ptr<ColliderSet> sphere_collider(int level) {
 }
 
 /// The N x N cloth (no pins), optionally over a collider.
-inline Model grid_model(int n, std::shared_ptr<const ColliderSet> colliders = nullptr, Options o = {}) {
+inline Model grid_model(int n, std::shared_ptr<const ColliderSet> colliders = nullptr, Options o = seed_options()) {
   ModelBuilder b(o, "perf_grid");
   const auto springs = triangulated_grid_springs(n);
   b.add_cloth(draped_grid(n), springs, {});

@@ -1,5 +1,7 @@
-// The contact stage: the penalty forces of every collider (report eq. 12), on one thread or
-// several. Without the collision module it adds nothing.
+// The contact stage: the penalty forces of every collider (report eq. 12) for the force-based
+// integrators, or the pushes that put points at the contact distance for the position-based
+// one; on one thread or several; and the Coulomb friction of the force-based integrators.
+// Without the collision module it adds nothing.
 #include "parallel.hpp"
 #include "stages.hpp"
 
@@ -34,16 +36,14 @@ std::shared_ptr<CollisionScratch> make_collision_scratch(const Model& model) {
 
 namespace {
 
-// Runs of kRun masses, a contiguous share of them per thread (handing them out as threads get
-// free is 30 % slower: the cache entries then move between the cores), the shares balanced by
-// the time each took in the last call. All share one cache: a point's answer and force do not
-// depend on the others or on who computes them; the statistics combine in run order. So the
-// results do not depend on the split, only the speed does.
-PenaltyStats threaded_penalty(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f, CollisionScratch& cs,
-                              int nt) {
-  const ColliderSet& set = *model.colliders;
-  const Options& o = model.options;
-  const std::size_t n = model.mass_count();
+// One call of the query over the whole cloth: call(begin, end, stats) for runs of kRun masses,
+// a contiguous share of them per thread (handing them out as threads get free is 30 % slower:
+// the cache entries then move between the cores), the shares balanced by the time each took
+// in the last call. All share one cache: a point's answer does not depend on the others or on
+// who computes it; the statistics combine in run order. So the results do not depend on the
+// split, only the speed does.
+template <class Call>
+PenaltyStats over_runs(std::size_t n, CollisionScratch& cs, int nt, Call call) {
   const std::size_t count = (n + CollisionScratch::kRun - 1) / CollisionScratch::kRun;
   const auto parts = static_cast<std::size_t>(nt);
   if (cs.runs.size() != count || cs.bound.size() != parts + 1) {  // allocates once per thread count
@@ -53,8 +53,6 @@ PenaltyStats threaded_penalty(const Model& model, const Eigen::Matrix3Xd& x, Eig
     cs.seconds.assign(parts, 0.0);
   }
   bool timed = true;
-  cs.whole.tick();  // one call of the shared cache, in runs
-  cs.whole.use_band(o.epsilon);
 #pragma omp parallel num_threads(nt)
   {
     const std::size_t t = thread_num(), got = team_size();
@@ -63,8 +61,7 @@ PenaltyStats threaded_penalty(const Model& model, const Eigen::Matrix3Xd& x, Eig
     const std::size_t r1 = got == parts ? cs.bound[t + 1] : count * (t + 1) / got;
     for (std::size_t r = r0; r < r1; ++r) {
       const std::size_t b = r * CollisionScratch::kRun;
-      accumulate_penalty(set, x, b, std::min(n, b + CollisionScratch::kRun), o.epsilon, o.k_rep, f, cs.runs[r],
-                         cs.whole);
+      call(b, std::min(n, b + CollisionScratch::kRun), cs.runs[r]);
     }
     if (got == parts) cs.seconds[t] = wtime() - t0;
 #pragma omp single nowait
@@ -82,26 +79,86 @@ PenaltyStats threaded_penalty(const Model& model, const Eigen::Matrix3Xd& x, Eig
   return stats;
 }
 
+void record(Workspace& ws, const PenaltyStats& stats) {
+  ws.last_penetration = stats.max_penetration;
+  ws.last_contacts = static_cast<std::uint32_t>(stats.contacts);
+}
+
+// The penalty forces into `out` (added).
+void penalty_into(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& out, Workspace& ws) {
+  const ColliderSet& set = *model.colliders;
+  const ContactParams& c = model.contact;
+  PenaltyStats stats;
+  const int nt = team(ws, collision_work(model.mass_count(), set.object_count()));
+  if (!ws.collision) {  // a Workspace not made by make_workspace: the hints, if sized
+    accumulate_penalty(set, x, c.distance, c.k_rep, out, stats, std::span<std::int32_t>(ws.contact_hint));
+  } else if (nt <= 1) {
+    accumulate_penalty(set, x, c.distance, c.k_rep, out, stats, ws.collision->whole);
+  } else {
+    ws.collision->whole.tick();  // one call of the shared cache, in runs
+    ws.collision->whole.use_band(c.distance);
+    stats = over_runs(model.mass_count(), *ws.collision, nt, [&](std::size_t b, std::size_t e, PenaltyStats& s) {
+      accumulate_penalty(set, x, b, e, c.distance, c.k_rep, out, s, ws.collision->whole);
+    });
+  }
+  record(ws, stats);
+}
+
 }  // namespace
+
+void add_contact_push(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& push, Workspace& ws) {
+  ws.last_penetration = 0.0;
+  ws.last_contacts = 0;
+  if (!model.colliders || !ws.collision) return;
+  const ColliderSet& set = *model.colliders;
+  const ContactParams& c = model.contact;
+  ContactCache& cache = ws.collision->whole;
+  cache.tick();
+  cache.use_band(c.band);
+  const int nt = team(ws, collision_work(model.mass_count(), set.object_count()));
+  const auto call = [&](std::size_t b, std::size_t e, PenaltyStats& s) {
+    accumulate_push(set, x, b, e, c.distance, c.band, push, s, cache);
+  };
+  if (nt <= 1) {
+    PenaltyStats stats;
+    call(0, model.mass_count(), stats);
+    record(ws, stats);
+  } else {
+    record(ws, over_runs(model.mass_count(), *ws.collision, nt, call));
+  }
+}
+
 }  // namespace detail
 
 void add_contact_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f, Workspace& ws) {
   ws.last_penetration = 0.0;
   ws.last_contacts = 0;
   if (!model.colliders) return;
-  const ColliderSet& set = *model.colliders;
-  const Options& o = model.options;
-  PenaltyStats stats;
-  const int nt = detail::team(ws, detail::collision_work(model.mass_count(), set.object_count()));
-  if (!ws.collision) {  // a Workspace not made by make_workspace: the hints, if sized
-    accumulate_penalty(set, x, o.epsilon, o.k_rep, f, stats, std::span<std::int32_t>(ws.contact_hint));
-  } else if (nt <= 1) {
-    accumulate_penalty(set, x, o.epsilon, o.k_rep, f, stats, ws.collision->whole);
-  } else {
-    stats = detail::threaded_penalty(model, x, f, *ws.collision, nt);
+  if (ws.contact_f.cols() != x.cols()) return detail::penalty_into(model, x, f, ws);
+  // with friction: the contact forces apart, for apply_friction() after the step
+  ws.contact_f.setZero();
+  detail::penalty_into(model, x, ws.contact_f, ws);
+  f += ws.contact_f;
+}
+
+void apply_friction(const Model& model, State& state, const Workspace& ws, double h) {
+  if (ws.contact_f.cols() != state.v.cols()) return;
+  const double mu_s = model.contact.static_friction, mu_k = model.contact.friction;
+  const auto n = static_cast<std::int64_t>(model.mass_count());
+  [[maybe_unused]] const int nt = detail::team(ws, model.mass_count());
+#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d cf = ws.contact_f.col(i);
+    const double fn = cf.norm();
+    if (!(fn > 0.0) || model.pinned[static_cast<std::size_t>(i)]) continue;
+    // the normal impulse of this step, as a velocity, and the tangential velocity it can stop
+    const Eigen::Vector3d nrm = cf / fn;
+    const double dvn = h * fn * model.inv_mass[i];
+    const Eigen::Vector3d vt = state.v.col(i) - nrm.dot(state.v.col(i)) * nrm;
+    const double st = vt.norm();
+    if (st <= mu_s * dvn) state.v.col(i) -= vt;                  // static: it sticks
+    else state.v.col(i) -= std::min(1.0, mu_k * dvn / st) * vt;  // kinetic: slowed by mu_k dvn
   }
-  ws.last_penetration = stats.max_penetration;
-  ws.last_contacts = static_cast<std::uint32_t>(stats.contacts);
 }
 
 #else
@@ -109,12 +166,18 @@ void add_contact_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Ma
 namespace detail {
 struct CollisionScratch {};
 std::shared_ptr<CollisionScratch> make_collision_scratch(const Model&) { return nullptr; }
+void add_contact_push(const Model&, const Eigen::Matrix3Xd&, Eigen::Matrix3Xd&, Workspace& ws) {
+  ws.last_penetration = 0.0;
+  ws.last_contacts = 0;
+}
 }  // namespace detail
 
 void add_contact_forces(const Model&, const Eigen::Matrix3Xd&, Eigen::Matrix3Xd&, Workspace& ws) {
   ws.last_penetration = 0.0;
   ws.last_contacts = 0;
 }
+
+void apply_friction(const Model&, State&, const Workspace&, double) {}
 
 #endif
 

@@ -26,7 +26,7 @@ double max_strain(const Model& model, const Eigen::Matrix3Xd& x) {
 
 double gershgorin_omega_max(const Model& model) {
   const std::size_t n = model.mass_count();
-  std::vector<double> ksum(n, model.colliders ? model.options.k_rep : 0.0);
+  std::vector<double> ksum(n, model.colliders ? model.contact.k_rep : 0.0);
   for (std::size_t s = 0; s < model.spring_count(); ++s) {
     ksum[model.spring_a[s]] += model.spring_stiffness(s);
     ksum[model.spring_b[s]] += model.spring_stiffness(s);

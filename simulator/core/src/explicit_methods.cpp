@@ -49,11 +49,10 @@ void verlet(const Model& m, State& s, Workspace& ws, double h) {
   // Drift-kick-drift. The force stage's damping -gamma v is evaluated at v(t); replacing it by
   // the midpoint (v(t) + v(t+h))/2 keeps the method second order with damping:
   // v' = v + h/m (f(x_half, v) ) / (1 + h gamma / (2 m)).
-  const double g = m.options.damping;
   s.x.noalias() += (0.5 * h) * s.v;
   compute_forces(m, s.x, s.v, ws.f, ws);
   for (Eigen::Index i = 0; i < s.x.cols(); ++i) {
-    const double im = m.inv_mass[i];
+    const double im = m.inv_mass[i], g = m.damping_of(static_cast<std::size_t>(i));
     s.v.col(i) += (h * im / (1.0 + 0.5 * h * g * im)) * ws.f.col(i);
   }
   s.x.noalias() += (0.5 * h) * s.v;

@@ -16,9 +16,9 @@ void fms_precompute(const Model& m, IntegratorScratch& sc, double h) {
   t.reserve(m.mass_count() + 4 * m.spring_count());
   for (std::size_t i = 0; i < m.mass_count(); ++i)
     if (sc.compact[i] >= 0)
-      t.emplace_back(sc.compact[i], sc.compact[i], m.mass[static_cast<Eigen::Index>(i)] + h * m.options.damping);
+      t.emplace_back(sc.compact[i], sc.compact[i], m.mass[static_cast<Eigen::Index>(i)] + h * m.damping_of(i));
   const double h2 = h * h;
-  double ksum = m.options.damping;  // the key: damping is in the matrix too
+  double ksum = m.damping + m.drag;  // the key: damping is in the matrix too
   for (std::size_t k = 0; k < m.spring_count(); ++k) {
     const double w = h2 * m.spring_stiffness(k);
     ksum += m.spring_stiffness(k);
@@ -42,7 +42,7 @@ void fms_precompute(const Model& m, IntegratorScratch& sc, double h) {
 
 void fast_mass_spring(const Model& m, State& s, Workspace& ws, double h) {
   IntegratorScratch& sc = *ws.integrator_scratch;
-  double ksum = m.options.damping;
+  double ksum = m.damping + m.drag;
   for (std::size_t k = 0; k < m.spring_count(); ++k) ksum += m.spring_stiffness(k);
   if (sc.llt_h != h || sc.llt_ksum != ksum) fms_precompute(m, sc, h);
   // External forces = everything but the springs and the damping (gravity, contact, drag),
@@ -50,7 +50,8 @@ void fast_mass_spring(const Model& m, State& s, Workspace& ws, double h) {
   compute_forces(m, s.x, s.v, ws.f, ws);
   sc.f2.setZero();
   add_spring_forces(m, s.x, sc.f2);
-  sc.fext = ws.f - sc.f2 + m.options.damping * s.v;
+  sc.fext = ws.f - sc.f2;
+  for (Eigen::Index i = 0; i < s.v.cols(); ++i) sc.fext.col(i) += m.damping_of(static_cast<std::size_t>(i)) * s.v.col(i);
   sc.y.noalias() = s.x + h * s.v + (h * h) * accel(m, sc.fext);
   sc.xs = sc.y;
   for (std::size_t i = 0; i < m.mass_count(); ++i)
@@ -67,7 +68,7 @@ void fast_mass_spring(const Model& m, State& s, Workspace& ws, double h) {
     for (std::size_t i = 0; i < m.mass_count(); ++i)
       if (sc.compact[i] >= 0) {
         const auto c = static_cast<Eigen::Index>(i);
-        sc.b.row(sc.compact[i]) = (m.mass[c] * sc.y.col(c) + h * m.options.damping * s.x.col(c)).transpose();
+        sc.b.row(sc.compact[i]) = (m.mass[c] * sc.y.col(c) + h * m.damping_of(i) * s.x.col(c)).transpose();
       }
     for (std::size_t k = 0; k < m.spring_count(); ++k) {
       const double w = h2 * m.spring_stiffness(k);

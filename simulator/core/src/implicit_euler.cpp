@@ -31,8 +31,9 @@ void spring_jacobians(const Model& m, const Eigen::Matrix3Xd& x, IntegratorScrat
 // y = (M + h gamma + h^2 K) p, pinned rows zero.
 void apply_system(const Model& m, const IntegratorScratch& sc, double h, const Eigen::Matrix3Xd& p,
                   Eigen::Matrix3Xd& y) {
-  const double hg = h * m.options.damping, h2 = h * h;
-  for (Eigen::Index i = 0; i < p.cols(); ++i) y.col(i) = (m.mass[i] + hg) * p.col(i);
+  const double h2 = h * h;
+  for (Eigen::Index i = 0; i < p.cols(); ++i)
+    y.col(i) = (m.mass[i] + h * m.damping_of(static_cast<std::size_t>(i))) * p.col(i);
   for (std::size_t k = 0; k < m.spring_count(); ++k) {
     const Eigen::Vector3d t = h2 * (sc.spring_k[k] * (p.col(m.spring_a[k]) - p.col(m.spring_b[k])));
     y.col(m.spring_a[k]) += t;
@@ -48,10 +49,11 @@ void implicit_euler(const Model& m, State& s, Workspace& ws, double h) {
   IntegratorScratch& sc = *ws.integrator_scratch;
   compute_forces(m, s.x, s.v, ws.f, ws);  // penalty contact stays explicit (in f)
   spring_jacobians(m, s.x, sc);
-  const double hg = h * m.options.damping, h2 = h * h;
+  const double h2 = h * h;
   // block-Jacobi preconditioner
   for (Eigen::Index i = 0; i < s.x.cols(); ++i)
-    sc.precond[static_cast<std::size_t>(i)] = (m.mass[i] + hg) * Eigen::Matrix3d::Identity();
+    sc.precond[static_cast<std::size_t>(i)] =
+        (m.mass[i] + h * m.damping_of(static_cast<std::size_t>(i))) * Eigen::Matrix3d::Identity();
   for (std::size_t k = 0; k < m.spring_count(); ++k) {
     sc.precond[m.spring_a[k]] += h2 * sc.spring_k[k];
     sc.precond[m.spring_b[k]] += h2 * sc.spring_k[k];
@@ -61,7 +63,7 @@ void implicit_euler(const Model& m, State& s, Workspace& ws, double h) {
   // rhs = h (f - h K v), with -h^2 K v = (M + h gamma) v - A v.
   apply_system(m, sc, h, s.v, sc.ap);
   for (Eigen::Index i = 0; i < s.x.cols(); ++i) {
-    const double mi = m.pinned[static_cast<std::size_t>(i)] ? 0.0 : m.mass[i] + hg;
+    const double mi = m.pinned[static_cast<std::size_t>(i)] ? 0.0 : m.mass[i] + h * m.damping_of(static_cast<std::size_t>(i));
     // -h^2 K v = (M + h g) v - A v
     sc.rhs.col(i) = h * ws.f.col(i) + (mi * s.v.col(i) - sc.ap.col(i));
     if (m.pinned[static_cast<std::size_t>(i)]) sc.rhs.col(i).setZero();

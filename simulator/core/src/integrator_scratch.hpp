@@ -24,6 +24,9 @@ struct IntegratorScratch {
   int free_count = 0;
   Eigen::Matrix3Xd d, y, fext;            ///< (3 x s) spring directions; (3 x n) inertia target
   Eigen::MatrixXd b, sol;                 ///< (free x 3)
+  // XPBD: the springs by colour (no two springs of a colour share a mass), made on first use
+  std::vector<std::uint32_t> colour_start;   ///< (colours + 1)
+  std::vector<std::uint32_t> colour_springs; ///< (s)
   ImplicitSettings settings;
   ImplicitStats stats;
 };

@@ -1,3 +1,4 @@
+#include <clothsim/material.hpp>
 #include <clothsim/model_builder.hpp>
 
 #include <algorithm>
@@ -15,7 +16,8 @@ ModelBuilder::ModelBuilder(const Options& options, std::string scene_name) {
 
 std::size_t ModelBuilder::add_cloth(const Eigen::Matrix3Xd& positions,
                                     std::span<const SpringSpec> springs,
-                                    std::span<const std::uint32_t> pins, std::int32_t scene_cloth) {
+                                    std::span<const std::uint32_t> pins, std::span<const std::uint32_t> triangles,
+                                    std::int32_t scene_cloth) {
   const auto k = static_cast<std::uint32_t>(positions.cols());
   const std::string which = "cloth " + std::to_string(model_.cloths.size());
   if (!positions.allFinite()) throw std::invalid_argument(which + ": a rest position is not finite");
@@ -28,6 +30,9 @@ std::size_t ModelBuilder::add_cloth(const Eigen::Matrix3Xd& positions,
   }
   for (auto p : pins)
     if (p >= k) throw std::invalid_argument(which + ": pin " + std::to_string(p) + " names no mass");
+  if (triangles.size() % 3 != 0) throw std::invalid_argument(which + ": triangles need 3 indices each");
+  for (auto t : triangles)
+    if (t >= k) throw std::invalid_argument(which + ": a triangle names mass " + std::to_string(t) + " >= " + std::to_string(k));
 
   ClothRange r;
   r.first_mass = static_cast<std::uint32_t>(model_.x0.cols());
@@ -62,6 +67,7 @@ std::size_t ModelBuilder::add_cloth(const Eigen::Matrix3Xd& positions,
         s.rest_length >= 0.0 ? s.rest_length : (positions.col(s.a) - positions.col(s.b)).norm();
     ++si;
   }
+  for (auto t : triangles) triangles_.push_back(r.first_mass + t);
   model_.cloths.push_back(r);
   return model_.cloths.size() - 1;
 }
@@ -71,15 +77,37 @@ void ModelBuilder::set_colliders(std::shared_ptr<const ColliderSet> colliders) {
 }
 
 Model ModelBuilder::build() {
-  const Eigen::Index n = model_.x0.cols();
-  model_.mass = Eigen::VectorXd::Constant(n, model_.options.mass);
-  model_.inv_mass.resize(n);
-  for (Eigen::Index i = 0; i < n; ++i)
-    model_.inv_mass[i] = model_.pinned[static_cast<std::size_t>(i)] ? 0.0 : 1.0 / model_.mass[i];
+  Model& m = model_;
+  m.options = resolve_options(m.options, seed_options_set(m.options));
+  const Options& o = m.options;
+  const Eigen::Index n = m.x0.cols();
+  m.gravity = clothsim::gravity(o);
+  m.spring_scale.assign(m.spring_count(), 1.0f);
+  m.mass = Eigen::VectorXd::Constant(n, o.mass);
+  if (is_seed(o)) {  // the 2016 program: per point and per spring
+    m.spring_modulus[0] = o.k_struct;
+    m.spring_modulus[1] = o.k_bend;
+    m.damping = o.damping;
+    m.contact = ContactParams{o.epsilon, o.epsilon, o.k_rep, o.friction, o.static_friction};
+  } else {  // a material: from the triangles' areas
+    if (n > 0 && triangles_.empty())
+      throw std::invalid_argument("a cloth of material '" + find_option("material")->text(o) +
+                                  "' needs its triangles (its masses and springs come from their areas); "
+                                  "without them use material seed");
+    lump_masses(m.x0, triangles_, o.density, m.mass);
+    material_spring_scales(m, triangles_);
+    m.spring_modulus[0] = o.stretch;
+    m.spring_modulus[1] = o.bend;
+    m.drag = o.drag;
+  }
+  m.inv_mass.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) m.inv_mass[i] = m.pinned[static_cast<std::size_t>(i)] ? 0.0 : 1.0 / m.mass[i];
+  if (!is_seed(o)) m.contact = material_contact(m, o);  // (after the masses: the penalty scales with them)
   Model out = std::move(model_);
   model_ = Model{};
   model_.options = out.options;
   model_.x0.resize(3, 0);
+  triangles_.clear();
   return out;
 }
 

@@ -1,21 +1,25 @@
-// The options table (options.hpp) turned into rows the generic code reads.
+// The options table (options.hpp) turned into rows the generic code reads, and the choice of
+// model and integrator an "auto" leaves to the simulator.
 #include <clothsim/options.hpp>
 
 #include <array>
-#include <iterator>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <iterator>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 namespace clothsim {
 
 namespace {
 
+// Choice names, "auto" first (the enumerators' order).
 constexpr std::string_view kIntegratorNames[] = {
+    "auto",
 #define CLOTHSIM_NAME(e, name, ...) name,
     CLOTHSIM_INTEGRATORS(CLOTHSIM_NAME)
 #undef CLOTHSIM_NAME
@@ -25,15 +29,34 @@ constexpr Integrator kIntegrators[] = {
     CLOTHSIM_INTEGRATORS(CLOTHSIM_VALUE)
 #undef CLOTHSIM_VALUE
 };
+constexpr std::string_view kMaterialNames[] = {
+    "auto",
+#define CLOTHSIM_NAME(e, name, ...) name,
+    CLOTHSIM_MATERIALS(CLOTHSIM_NAME)
+#undef CLOTHSIM_NAME
+    "seed",
+};
 
-// The names of a choice type and its parser.
+// The names of a choice type ("auto" first) and its parser.
 template <class T>
 struct Choices;
 template <>
 struct Choices<Integrator> {
   static std::span<const std::string_view> names() { return kIntegratorNames; }
-  static std::optional<Integrator> parse(std::string_view text) { return parse_integrator(text); }
-  static std::string_view label(Integrator v) { return to_string(v); }
+  static std::optional<Integrator> parse(std::string_view text) {
+    return text == "auto" ? std::optional(Integrator::Auto) : parse_integrator(text);
+  }
+  static std::string_view label(Integrator v) { return kIntegratorNames[static_cast<std::size_t>(v)]; }
+};
+template <>
+struct Choices<Material> {
+  static std::span<const std::string_view> names() { return kMaterialNames; }
+  static std::optional<Material> parse(std::string_view text) {
+    for (std::size_t i = 0; i < std::size(kMaterialNames); ++i)
+      if (text == kMaterialNames[i]) return static_cast<Material>(i);
+    return std::nullopt;
+  }
+  static std::string_view label(Material v) { return kMaterialNames[static_cast<std::size_t>(v)]; }
 };
 
 std::string joined(std::span<const std::string_view> names) {
@@ -42,13 +65,14 @@ std::string joined(std::span<const std::string_view> names) {
   return out;
 }
 
-std::string range_words(Range r) {
+std::string range_words(Range r, bool autoable) {
+  std::string w;
   switch (r) {
-    case Range::Positive: return "a finite number > 0";
-    case Range::NonNegative: return "a finite number >= 0";
-    case Range::Finite: return "a finite number";
+    case Range::Positive: w = "a finite number > 0"; break;
+    case Range::NonNegative: w = "a finite number >= 0"; break;
+    case Range::Finite: w = "a finite number"; break;
   }
-  return "a number";
+  return autoable ? w + " or auto" : w;
 }
 
 bool in_range(double v, Range r) {
@@ -80,11 +104,15 @@ std::string parse_number(std::string_view text, double& v) {
 
 namespace {
 
-template <double Options::*Field, Range R>
+template <double Options::*Field, Range R, bool Autoable>
 std::string set_real(Options& o, std::string_view text) {
+  if (Autoable && text == "auto") {
+    o.*Field = kAuto;
+    return {};
+  }
   double v = 0.0;
   if (std::string why = parse_number(text, v); !why.empty()) return why;
-  if (!in_range(v, R)) return "must be " + range_words(R) + " (got " + shown(text) + ")";
+  if (!in_range(v, R)) return "must be " + range_words(R, Autoable) + " (got " + shown(text) + ")";
   o.*Field = v;
   return {};
 }
@@ -98,16 +126,39 @@ std::string set_choice(Options& o, std::string_view text) {
   return "unknown '" + shown(text) + "' (known: " + joined(Choices<T>::names()) + ")";
 }
 
+std::string real_text(double v) { return std::isnan(v) ? std::string("auto") : number_text(v); }
+
 const std::array kTable = {
-#define CLOTHSIM_REAL_ROW(field, def, range, unit, alias, help)                                      \
-  OptionInfo{#field, unit, alias, help, false, Range::range, {},                                       \
-             [](Options& o, std::string_view t) { return set_real<&Options::field, Range::range>(o, t); }, \
-             [](const Options& o) { return number_text(o.field); }, [](const Options& o) { return o.field; }},
-#define CLOTHSIM_CHOICE_ROW(field, type, def, alias, help)                                           \
-  OptionInfo{#field, "", alias, help, true, Range::Finite, Choices<type>::names(),                     \
-             [](Options& o, std::string_view t) { return set_choice<type, &Options::field>(o, t); }, \
-             [](const Options& o) { return std::string(Choices<type>::label(o.field)); },              \
-             [](const Options&) { return std::nan(""); }},
+#define CLOTHSIM_REAL_ROW(field, def, range, unit, group, alias, help)                                         \
+  OptionInfo{#field,                                                                                           \
+             unit,                                                                                             \
+             alias,                                                                                            \
+             help,                                                                                             \
+             false,                                                                                            \
+             OptionGroup::group,                                                                               \
+             std::isnan(def),                                                                                  \
+             Range::range,                                                                                     \
+             {},                                                                                               \
+             [](Options& o, std::string_view t) {                                                              \
+               return set_real<&Options::field, Range::range, __builtin_isnan(def)>(o, t);                     \
+             },                                                                                                \
+             [](const Options& o) { return real_text(o.field); },                                              \
+             [](const Options& o) { return o.field; },                                                         \
+             [](const Options& o) { return std::isnan(o.field); }},
+#define CLOTHSIM_CHOICE_ROW(field, type, def, group, alias, help)                                              \
+  OptionInfo{#field,                                                                                           \
+             "",                                                                                               \
+             alias,                                                                                            \
+             help,                                                                                             \
+             true,                                                                                             \
+             OptionGroup::group,                                                                               \
+             type::def == type::Auto,                                                                          \
+             Range::Finite,                                                                                    \
+             Choices<type>::names(),                                                                           \
+             [](Options& o, std::string_view t) { return set_choice<type, &Options::field>(o, t); },           \
+             [](const Options& o) { return std::string(Choices<type>::label(o.field)); },                      \
+             [](const Options&) { return std::nan(""); },                                                      \
+             [](const Options& o) { return o.field == type::Auto; }},
     CLOTHSIM_OPTIONS(CLOTHSIM_REAL_ROW, CLOTHSIM_CHOICE_ROW)
 #undef CLOTHSIM_REAL_ROW
 #undef CLOTHSIM_CHOICE_ROW
@@ -155,11 +206,56 @@ std::string check_param(std::string_view key, std::string_view value) {
 }
 
 std::string validate_options(const Options& options) {
-  for (const OptionInfo& o : kTable)
-    if (!o.is_choice && !in_range(o.value(options), o.range))
-      return std::string(o.name) + " must be " + range_words(o.range) + " (got " + number_text(o.value(options)) + ")";
+  for (const OptionInfo& o : kTable) {
+    if (o.is_choice || (o.autoable && o.is_auto(options)) || in_range(o.value(options), o.range)) continue;
+    return std::string(o.name) + " must be " + range_words(o.range, o.autoable) + " (got " +
+           number_text(o.value(options)) + ")";
+  }
+  if (!std::isnan(options.friction) && !std::isnan(options.static_friction) &&
+      options.static_friction < options.friction)
+    return "static_friction must be at least friction (got " + number_text(options.static_friction) + " < " +
+           number_text(options.friction) + ")";
   return {};
 }
+
+Options resolve_options(Options o, bool seed_given) {
+  if (o.material == Material::Auto) o.material = seed_given ? Material::Seed : Material::Cotton;
+  const bool seed = is_seed(o);
+  const Options defaults{};
+  for (const OptionInfo& row : kTable) {
+    // an option of the other model, set to something else than its default
+    const OptionGroup other = seed ? OptionGroup::Material : OptionGroup::Seed;
+    if (row.group != other || row.text(o) == row.text(defaults)) continue;
+    throw ModelMismatch(std::string(row.name), std::string(row.name) + " belongs to " +
+                                (seed ? "a material's cloth (the seed model takes mass, k_struct, k_bend, damping, "
+                                        "epsilon, k_rep)"
+                                      : "the seed model (material seed); material " +
+                                            std::string(Choices<Material>::label(o.material)) +
+                                            " takes density, stretch, bend, drag, thickness"));
+  }
+  if (const MaterialPreset* p = material_preset(o.material)) {
+    for (auto [field, value] : {std::pair{&Options::density, p->density}, {&Options::stretch, p->stretch},
+                                {&Options::bend, p->bend}, {&Options::drag, p->drag},
+                                {&Options::thickness, p->thickness}, {&Options::friction, p->friction},
+                                {&Options::static_friction, p->static_friction}})
+      if (std::isnan(o.*field)) o.*field = value;
+  } else {  // the 2016 program: frictionless
+    if (std::isnan(o.friction)) o.friction = 0.0;
+  }
+  // static friction at least the kinetic one (given alone, friction sets both)
+  if (std::isnan(o.static_friction) || o.static_friction < o.friction) o.static_friction = o.friction;
+  if (o.integrator == Integrator::Auto) o.integrator = seed ? Integrator::SymplecticEuler : Integrator::XPBD;
+  return o;
+}
+
+bool seed_options_set(const Options& o) {
+  const Options defaults{};
+  for (const OptionInfo& row : kTable)
+    if (row.group == OptionGroup::Seed && row.text(o) != row.text(defaults)) return true;
+  return false;
+}
+
+std::string material_names() { return joined(std::span(kMaterialNames).subspan(1)); }
 
 std::string number_text(double value) {
   char buf[64];
@@ -175,8 +271,8 @@ const char* to_string(Integrator method) {
 }
 
 std::optional<Integrator> parse_integrator(std::string_view name) {
-  for (std::size_t i = 0; i < std::size(kIntegratorNames); ++i)
-    if (name == kIntegratorNames[i]) return kIntegrators[i];
+  for (Integrator m : kIntegrators)
+    if (name == to_string(m)) return m;
   if (name == "leapfrog" || name == "velocity-verlet") return Integrator::Verlet;
   if (name == "rk2") return Integrator::Midpoint;
   if (name == "baraff-witkin") return Integrator::ImplicitEuler;
@@ -184,10 +280,11 @@ std::optional<Integrator> parse_integrator(std::string_view name) {
   return std::nullopt;
 }
 
-std::string integrator_names() { return joined(kIntegratorNames); }
+std::string integrator_names() { return joined(std::span(kIntegratorNames).subspan(1)); }
 
 int integrator_order(Integrator method) {
   constexpr int order[] = {
+      1,
 #define CLOTHSIM_ORDER(e, name, ord, ...) ord,
       CLOTHSIM_INTEGRATORS(CLOTHSIM_ORDER)
 #undef CLOTHSIM_ORDER
@@ -197,6 +294,7 @@ int integrator_order(Integrator method) {
 
 int force_evaluations(Integrator method) {
   constexpr int forces[] = {
+      1,
 #define CLOTHSIM_FORCES(e, name, ord, f, ...) f,
       CLOTHSIM_INTEGRATORS(CLOTHSIM_FORCES)
 #undef CLOTHSIM_FORCES

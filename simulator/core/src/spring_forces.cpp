@@ -16,7 +16,8 @@ void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Mat
   const std::uint32_t* sb = model.spring_b.data();
   const double* rest = model.rest_length0.data();
   const std::uint8_t* kind = model.spring_kind.data();
-  const double k[2] = {model.options.k_struct, model.options.k_bend};  // k[kind != 0] = model.spring_stiffness(s)
+  const double* k = model.spring_modulus;  // k[kind != 0] * scale[s] = model.spring_stiffness(s)
+  const float* scale = model.spring_scale.data();
   const double* px = x.data();
   double* pf = f.data();
   for (std::size_t s = 0; s < s_count; ++s) {
@@ -25,7 +26,7 @@ void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Mat
     const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
     if (len == 0.0) continue;  // coincident ends: no direction, no force
     // eq. 4: f_a = dx/|dx| k (l - |dx|), f_b = -f_a
-    const double c = k[kind[s] != 0] * (rest[s] - len) / len;
+    const double c = k[kind[s] != 0] * static_cast<double>(scale[s]) * (rest[s] - len) / len;
     pf[a] += c * dx;
     pf[a + 1] += c * dy;
     pf[a + 2] += c * dz;
@@ -46,13 +47,14 @@ void spring_pass_scalar(const Model& model, const double* px, double* fs, std::s
   const std::uint32_t* sb = model.spring_b.data();
   const double* rest = model.rest_length0.data();
   const std::uint8_t* kind = model.spring_kind.data();
-  const double k[2] = {model.options.k_struct, model.options.k_bend};  // k[kind != 0] = model.spring_stiffness(s)
+  const double* k = model.spring_modulus;  // k[kind != 0] * scale[s] = model.spring_stiffness(s)
+  const float* scale = model.spring_scale.data();
   for (std::size_t j = j0; j < j1; ++j) {
     const std::size_t s = list ? list[j] : j;  // springs j0..j1, or those a list names
     const std::size_t a = 3 * std::size_t{sa[s]}, b = 3 * std::size_t{sb[s]};
     const double dx = px[a] - px[b], dy = px[a + 1] - px[b + 1], dz = px[a + 2] - px[b + 2];
     const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-    const double c = len == 0.0 ? 0.0 : k[kind[s] != 0] * (rest[s] - len) / len;
+    const double c = len == 0.0 ? 0.0 : k[kind[s] != 0] * static_cast<double>(scale[s]) * (rest[s] - len) / len;
     fs[4 * s] = c * dx;
     fs[4 * s + 1] = c * dy;
     fs[4 * s + 2] = c * dz;
@@ -65,10 +67,11 @@ void spring_pass_scalar(const Model& model, const double* px, double* fs, std::s
 void mass_pass_scalar(const Model& model, const SpringAdjacency& adj, const double* fs, const double* pv,
                       double* pf, std::size_t i0, std::size_t i1) {
   const double* m = model.mass.data();
-  const Eigen::Vector3d g = gravity(model.options);
-  const double gamma = model.options.damping;
+  const Eigen::Vector3d& g = model.gravity;
+  const double damping = model.damping, drag = model.drag;  // gamma_i = damping + drag m_i
   for (std::size_t i = i0; i < i1; ++i) {
     double f[3];
+    const double gamma = damping + drag * m[i];
     for (int r = 0; r < 3; ++r) f[r] = pv ? g[r] * m[i] - gamma * pv[3 * i + r] : pf[3 * i + r];
     for (std::uint32_t e = adj.start[i], end = adj.start[i + 1]; e < end; ++e) {
       const std::uint32_t en = adj.entry[e];
@@ -206,7 +209,8 @@ void detail::internal_forces(const Model& model, const Eigen::Matrix3Xd& x, cons
     // gravity, the damping of eq. 6 (a = (f - gamma v)/m) and the springs in one pass per mass
     gathered_springs(model, x, v.data(), f, ws);
   } else {
-    f.noalias() = gravity(model.options) * model.mass.transpose() - model.options.damping * v;
+    for (Eigen::Index i = 0; i < f.cols(); ++i)
+      f.col(i) = model.gravity * model.mass[i] - model.damping_of(static_cast<std::size_t>(i)) * v.col(i);
     add_spring_forces(model, x, f);
   }
 }

@@ -22,7 +22,8 @@ __attribute__((target("avx2"))) void spring_pass_avx2_impl(const Model& model, c
   const double* rest = model.rest_length0.data();
   const std::uint8_t* kind = model.spring_kind.data();
   // the stiffness of 4 springs: k_struct where the kind byte is 0, else k_bend (Model::spring_stiffness)
-  const __m256d ks = _mm256_set1_pd(model.options.k_struct), kb = _mm256_set1_pd(model.options.k_bend);
+  const __m256d ks = _mm256_set1_pd(model.spring_modulus[0]), kb = _mm256_set1_pd(model.spring_modulus[1]);
+  const float* scale = model.spring_scale.data();
   const __m256d zero = _mm256_setzero_pd();
   const __m256i xyz = _mm256_setr_epi64x(-1, -1, -1, 0);  // lanes x, y, z of a mass (never past x's end)
   // Eight springs per iteration as two independent groups of four, stage by stage, so that
@@ -57,16 +58,22 @@ __attribute__((target("avx2"))) void spring_pass_avx2_impl(const Model& model, c
       const bool run = Listed && sl[g][3] == sl[g][0] + 3;
       const std::size_t s0 = sl[g][0];
       __m256i kinds;  // the 4 kind bytes, widened
+      __m128 sv;      // the 4 scales
       if (Listed && !run) {
         kinds = _mm256_setr_epi64x(kind[sl[g][0]], kind[sl[g][1]], kind[sl[g][2]], kind[sl[g][3]]);
         rv[g] = _mm256_setr_pd(rest[sl[g][0]], rest[sl[g][1]], rest[sl[g][2]], rest[sl[g][3]]);
+        sv = _mm_setr_ps(scale[sl[g][0]], scale[sl[g][1]], scale[sl[g][2]], scale[sl[g][3]]);
       } else {
         std::uint32_t four;
         std::memcpy(&four, kind + s0, sizeof four);
         kinds = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(static_cast<int>(four)));
         rv[g] = _mm256_loadu_pd(rest + s0);
+        sv = _mm_loadu_ps(scale + s0);
       }
-      kv[g] = _mm256_blendv_pd(kb, ks, _mm256_castsi256_pd(_mm256_cmpeq_epi64(kinds, _mm256_setzero_si256())));
+      // k of the kind, times the spring's scale (Model::spring_stiffness)
+      kv[g] = _mm256_mul_pd(
+          _mm256_blendv_pd(kb, ks, _mm256_castsi256_pd(_mm256_cmpeq_epi64(kinds, _mm256_setzero_si256()))),
+          _mm256_cvtps_pd(sv));
     }
     for (int g = 0; g < G; ++g) c[g] = _mm256_div_pd(_mm256_mul_pd(kv[g], _mm256_sub_pd(rv[g], len[g])), len[g]);
     for (int g = 0; g < G; ++g) {
@@ -101,10 +108,11 @@ namespace {
 
 // The gather's first term for mass i: g m_i - gamma v_i with v, else the f_i already there.
 __attribute__((target("avx2"), always_inline)) inline __m256d mass_base(std::size_t i, const double* m, __m256d g,
-                                                                        __m256d gamma, const double* pv,
-                                                                        const double* pf) {
+                                                                        double damping, double drag,
+                                                                        const double* pv, const double* pf) {
   if (pv) {
     const __m256d v = _mm256_setr_pd(pv[3 * i], pv[3 * i + 1], pv[3 * i + 2], 0.0);
+    const __m256d gamma = _mm256_set1_pd(damping + drag * m[i]);  // Model::damping_of
     return _mm256_sub_pd(_mm256_mul_pd(g, _mm256_set1_pd(m[i])), _mm256_mul_pd(gamma, v));
   }
   return _mm256_setr_pd(pf[3 * i], pf[3 * i + 1], pf[3 * i + 2], 0.0);
@@ -123,9 +131,9 @@ __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const Sp
                                                     const double* fs, const double* pv, double* pf,
                                                     std::size_t i0, std::size_t i1) {
   const double* m = model.mass.data();
-  const Eigen::Vector3d gv = gravity(model.options);
+  const Eigen::Vector3d& gv = model.gravity;
   const __m256d g = _mm256_setr_pd(gv[0], gv[1], gv[2], 0.0);
-  const __m256d gamma = _mm256_set1_pd(model.options.damping);
+  const double damping = model.damping, drag = model.drag;
   const std::uint32_t* start = adj.start.data();
   const std::uint32_t* entry = adj.entry.data();
   const std::uint32_t* run = adj.run.empty() ? nullptr : adj.run.data();
@@ -136,7 +144,7 @@ __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const Sp
     // Two masses at a time, their sums interleaved term by term (each in its own order, so
     // the same bits): two dependency chains of adds for the core to overlap.
     for (; i + 2 <= i1; i += 2) {
-      __m256d f[2] = {mass_base(i, m, g, gamma, pv, pf), mass_base(i + 1, m, g, gamma, pv, pf)};
+      __m256d f[2] = {mass_base(i, m, g, damping, drag, pv, pf), mass_base(i + 1, m, g, damping, drag, pv, pf)};
       // the a ends: consecutive springs from the first entry on
       const std::uint32_t na0 = run[i], na1 = run[i + 1];
       const double* q0 = na0 > 0 ? fs + 4 * std::size_t{entry[start[i]]} : fs;
@@ -166,7 +174,7 @@ __attribute__((target("avx2"))) void mass_pass_avx2(const Model& model, const Sp
     }
   }
   for (; i < i1; ++i) {  // one at a time: every mass without runs, else the last of an odd range
-    __m256d f = mass_base(i, m, g, gamma, pv, pf);
+    __m256d f = mass_base(i, m, g, damping, drag, pv, pf);
     // A run of a ends (+fs), a run of b ends (-fs: f - y), then any other order term by term
     // (ModelBuilder orders springs so that there is none; then the a ends are consecutive
     // springs, read as a range, and the rest are all b ends).

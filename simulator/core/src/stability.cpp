@@ -104,7 +104,7 @@ double tridiagonal_last_component(const std::vector<double>& a, const std::vecto
 
 double omega_max_bound(const Model& model, bool include_contact) {
   const std::size_t n = model.mass_count();
-  const double kc = include_contact && has_colliders(model) ? model.options.k_rep : 0.0;
+  const double kc = include_contact && has_colliders(model) ? model.contact.k_rep : 0.0;
   std::vector<double> diag(n, kc), off(n, 0.0);
   for (std::size_t s = 0; s < model.spring_count(); ++s) {
     const double k = model.spring_stiffness(s);
@@ -211,7 +211,7 @@ OmegaEstimate omega_max_lanczos(const Model& model, const Eigen::Matrix3Xd* x, i
 double omega_contact(const Model& model) {
   if (!has_colliders(model)) return 0.0;
   const double m = min_free_mass(model);
-  return std::isfinite(m) ? std::sqrt(model.options.k_rep / m) : 0.0;
+  return std::isfinite(m) ? std::sqrt(model.contact.k_rep / m) : 0.0;
 }
 
 double stable_dt(Integrator method, double omega, double zeta) {
@@ -223,6 +223,7 @@ double stable_dt(Integrator method, double omega, double zeta) {
   auto map = [&](double h, double x, double v, double& x1, double& v1) {
     auto a = [&](double xx, double vv) { return -w2 * xx - 2.0 * zeta * vv; };
     switch (method) {
+      case Integrator::Auto:  // (resolved when the Model is built: the seed's method)
       case Integrator::SymplecticEuler:
         x1 = x + h * v;
         v1 = v + h * a(x1, v);
@@ -258,8 +259,8 @@ double stable_dt(Integrator method, double omega, double zeta) {
         x1 = x + h * v1;
         break;
       }
-      case Integrator::XPBD: {  // one constraint: the projection is implicit Euler; damping explicit
-        x1 = (x + h * v - 2.0 * zeta * h * h * v) / (1.0 + h * h * w2);
+      case Integrator::XPBD: {  // one constraint: the projection is implicit Euler, damping too
+        x1 = (x + h * v / (1.0 + 2.0 * zeta * h)) / (1.0 + h * h * w2);
         v1 = (x1 - x) / h;
         break;
       }
@@ -310,8 +311,11 @@ StabilityReport analyse_stability(const Model& model, int lanczos_iterations) {
     r.omega_springs = std::numeric_limits<double>::infinity();
   r.omega_contact = omega_contact(model);
   r.omega_max = std::sqrt(r.omega_springs * r.omega_springs + r.omega_contact * r.omega_contact);
-  const double m_max = max_free_mass(model);
-  r.zeta = m_max > 0.0 ? model.options.damping / (2.0 * m_max) : 0.0;
+  for (std::size_t i = 0; i < model.mass_count(); ++i)  // the weakest damping rate
+    if (!model.pinned[i]) {
+      const double rate = model.damping_of(i) / (2.0 * model.mass[static_cast<Eigen::Index>(i)]);
+      r.zeta = r.zeta > 0.0 ? std::min(r.zeta, rate) : rate;
+    }
   r.dt_stable = stable_dt(model.options.integrator, r.omega_max, r.zeta);
   // The penalty contact is an explicit force in every integrator (the implicit ones solve only
   // the springs implicitly: implicit_euler.cpp, xpbd.cpp, fast_mass_spring.cpp), and a one-sided
@@ -322,6 +326,11 @@ StabilityReport analyse_stability(const Model& model, int lanczos_iterations) {
   // Without it the implicit methods' guard says dt_stable inf, and a light cloth on a floor
   // bounces ever higher at the default dt (XPBD: 8 m up after 3 s).
   const Integrator method = model.options.integrator;
+  if (method == Integrator::XPBD) {  // no limit: its step is the one its accuracy and contact need
+    r.dt_stable = xpbd_step(model);
+    r.dt_stable_symplectic = stable_dt(Integrator::SymplecticEuler, r.omega_max, r.zeta);
+    return r;
+  }
   if (r.omega_contact > 0.0) {
     const double implicit_springs =
         method == Integrator::ImplicitEuler || method == Integrator::XPBD || method == Integrator::FastMassSpring
@@ -466,19 +475,17 @@ double max_stoppable_speed(double epsilon, double k_rep, double mass, double h) 
   return std::min(epsilon * std::sqrt(k_rep / mass), epsilon / h);
 }
 
-TunnellingReport check_tunnelling(const Model& model, double h, double lowest_collider) {
-  TunnellingReport r;
-  const Options& o = model.options;
-  const Eigen::Vector3d gv = gravity(o);
-  const double g = gv.norm();
-  const double m_max = max_free_mass(model);
-  r.stop_speed = m_max > 0.0 ? o.epsilon * std::sqrt(o.k_rep / m_max) : 0.0;
-  r.see_speed = o.epsilon / h;
-  r.max_speed = std::min(r.stop_speed, r.see_speed);
-  if (!(g > 0.0) || m_max <= 0.0) return r;
-  const Eigen::Vector3d up = -gv / g;
+double xpbd_step(const Model& model) {
+  const double fall = std::sqrt(2.0 * model.gravity.norm() * drop_height(model));
+  return fall > 0.0 ? std::min(kXpbdStep, model.contact.band / fall) : kXpbdStep;
+}
+
+double drop_height(const Model& model, double lowest_collider) {
+  const double g = model.gravity.norm();
+  if (!(g > 0.0) || max_free_mass(model) <= 0.0) return 0.0;
+  const Eigen::Vector3d up = -model.gravity / g;
   if (std::isnan(lowest_collider)) {
-    if (!has_colliders(model)) return r;
+    if (!has_colliders(model)) return 0.0;
 #ifdef CLOTHSIM_HAVE_COLLISION
     const Eigen::Vector3d lo = model.colliders->bounds_min(), hi = model.colliders->bounds_max();
     lowest_collider = std::numeric_limits<double>::infinity();
@@ -487,14 +494,28 @@ TunnellingReport check_tunnelling(const Model& model, double h, double lowest_co
       lowest_collider = std::min(lowest_collider, up.dot(p));
     }
 #else
-    return r;
+    return 0.0;
 #endif
   }
   double top = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < model.mass_count(); ++i)
     if (!model.pinned[i]) top = std::max(top, up.dot(model.x0.col(static_cast<Eigen::Index>(i))));
-  r.drop_height = std::max(0.0, top - lowest_collider);
-  r.fall_speed = std::sqrt(2.0 * g * r.drop_height);
+  return std::max(0.0, top - lowest_collider);
+}
+
+TunnellingReport check_tunnelling(const Model& model, double h, double lowest_collider) {
+  TunnellingReport r;
+  const ContactParams& c = model.contact;
+  const double m_max = max_free_mass(model);
+  const bool positions = model.options.integrator == Integrator::XPBD;  // (position-based contact)
+  r.stop_speed = positions ? std::numeric_limits<double>::infinity()
+                           : (m_max > 0.0 ? c.distance * std::sqrt(c.k_rep / m_max) : 0.0);
+  r.see_speed = (positions ? c.band : c.distance) / h;
+  r.max_speed = std::min(r.stop_speed, r.see_speed);
+  if (!(model.gravity.norm() > 0.0) || m_max <= 0.0) return r;
+  if (std::isnan(lowest_collider) && !has_colliders(model)) return r;
+  r.drop_height = drop_height(model, lowest_collider);
+  r.fall_speed = std::sqrt(2.0 * model.gravity.norm() * r.drop_height);
   r.warn = r.fall_speed >= r.max_speed;
   if (r.warn) {
     char buf[400];

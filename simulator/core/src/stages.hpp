@@ -33,6 +33,10 @@ inline auto accel(const Model& model, const Eigen::Matrix3Xd& f) {
 void internal_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f,
                      Workspace& ws);
 
+/// The position-based contact: adds to `push` the move that puts every point near a collider
+/// at the contact distance (model.contact), on ws.threads threads for large models.
+void add_contact_push(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& push, Workspace& ws);
+
 /// The contact stage's memory between steps (made by make_workspace for a model with colliders).
 std::shared_ptr<struct CollisionScratch> make_collision_scratch(const Model& model);
 

@@ -30,6 +30,9 @@ Workspace make_workspace(const Model& model) {
     if (model.pinned[i]) ws.pinned_index.push_back(static_cast<std::uint32_t>(i));
   ws.pinned_x = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(ws.pinned_index.size()));
   ws.collision = detail::make_collision_scratch(model);
+  const bool friction = model.contact.friction > 0.0 || model.contact.static_friction > 0.0;
+  if (friction && model.colliders && model.options.integrator != Integrator::XPBD)
+    ws.contact_f = Eigen::Matrix3Xd::Zero(3, n);
   return ws;
 }
 
@@ -65,7 +68,9 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
     case Integrator::ImplicitEuler: implicit_euler(model, state, ws, h); break;
     case Integrator::FastMassSpring: fast_mass_spring(model, state, ws, h); break;
     case Integrator::XPBD: xpbd(model, state, ws, h); break;
+    case Integrator::Auto: break;  // (resolved when the Model is built)
   }
+  if (method != Integrator::XPBD) apply_friction(model, state, ws, h);  // (XPBD's is in its contact)
   restore_pins(state, ws);
   state.t += h;
   ++state.steps;

@@ -27,6 +27,8 @@ BakedParams read_scene_params(const b2o::Scene& scene, Options base) {
       out.unknown.push_back(key);
     else if (std::string why = option->set(out.options, scene.params[i].value ? scene.params[i].value : ""); !why.empty())
       out.refused.push_back({key, std::move(why)});
+    else if (option->group == OptionGroup::Seed)
+      out.seed_given = true;
   }
   return out;
 }
@@ -34,7 +36,11 @@ BakedParams read_scene_params(const b2o::Scene& scene, Options base) {
 Options scene_options(const b2o::Scene& scene, Options base) {
   BakedParams p = read_scene_params(scene, base);
   if (!p.refused.empty()) fail(scene, "PARAMS " + p.refused[0].key + " " + p.refused[0].why);
-  return p.options;
+  try {
+    return resolve_options(p.options, p.seed_given);
+  } catch (const std::invalid_argument& e) {
+    fail(scene, std::string("PARAMS: ") + e.what());
+  }
 }
 
 Model build_model(const b2o::Scene& scene, const Options& options) {
@@ -54,7 +60,8 @@ Model build_model(const b2o::Scene& scene, const Options& options) {
       springs.push_back(SpringSpec{sp.a, sp.b, static_cast<std::uint8_t>(sp.kind == b2o::SpringKind::Bend), -1.0});
     }
     try {
-      builder.add_cloth(x, springs, std::span(cloth.pins, cloth.pin_count), static_cast<std::int32_t>(c));
+      builder.add_cloth(x, springs, std::span(cloth.pins, cloth.pin_count),
+                        std::span(cloth.triangles, 3 * std::size_t{cloth.triangle_count}), static_cast<std::int32_t>(c));
     } catch (const std::invalid_argument& e) {
       fail(scene, e.what());
     }

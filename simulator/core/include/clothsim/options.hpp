@@ -7,29 +7,46 @@
 // alone).
 #pragma once
 
+#include <clothsim/materials.hpp>
+
 #include <cstdint>
 #include <optional>
+#include <stdexcept>
 #include <span>
 #include <string>
 #include <string_view>
 
-// REAL(name, default, range, unit, seed alias, help)
-//   name   the field, the PARAMS key and the report key; the flag is --name with '-' for '_'
-//   range  Positive (> 0), NonNegative (>= 0) or Finite
+// REAL(name, default, range, unit, group, seed alias, help)
+//   name     the field, the PARAMS key and the report key; the flag is --name with '-' for '_'
+//   default  a number, or kAuto ("auto"): the material's value, or one the simulator derives
+//   range    Positive (> 0), NonNegative (>= 0) or Finite
+//   group    Any (every model), Material (a material's quantity), Seed (the 2016 program's
+//            per-vertex model: giving one of them without a material selects it)
 //   seed alias: the 2016 program's single-dash option ("" when it had none)
-// CHOICE(name, type, default, seed alias, help): one of the names of the type's own list.
-#define CLOTHSIM_OPTIONS(REAL, CHOICE)                                                               \
-  REAL(dt, 0.01, Positive, "s", "step", "Step size h")                                               \
-  REAL(mass, 0.1, Positive, "kg", "mass", "Mass per point")                                          \
-  REAL(k_struct, 400.0, NonNegative, "N/m", "stiff", "Structural spring stiffness")                  \
-  REAL(k_bend, 50.0, NonNegative, "N/m", "wstiff", "Bend spring stiffness")                          \
-  REAL(damping, 0.1, NonNegative, "N s/m", "damp", "Damping gamma of report eq. 6")                  \
-  REAL(gravity_x, 0.0, Finite, "m/s^2", "", "Gravity, x component")                                  \
-  REAL(gravity_y, -9.81, Finite, "m/s^2", "", "Gravity, y component (Blender's OBJ export is Y up)") \
-  REAL(gravity_z, 0.0, Finite, "m/s^2", "", "Gravity, z component")                                  \
-  REAL(epsilon, 0.1, Positive, "m", "", "Collision band epsilon of report eq. 12")                   \
-  REAL(k_rep, 600.0, NonNegative, "N/m", "", "Penalty stiffness k_rep of report eq. 12")             \
-  CHOICE(integrator, Integrator, SymplecticEuler, "", "Time integrator")
+// CHOICE(name, type, default, group, seed alias, help): "auto" or one of the names of the
+// type's own list.
+#define CLOTHSIM_OPTIONS(REAL, CHOICE)                                                                   \
+  REAL(dt, 0.01, Positive, "s", Any, "step", "Step size h")                                              \
+  CHOICE(material, Material, Auto, Any, "",                                                              \
+         "Cloth material (auto: cotton, or seed when an option of the seed model is given)")              \
+  REAL(density, kAuto, Positive, "kg/m^2", Material, "", "Mass per area of cloth")                       \
+  REAL(stretch, kAuto, Positive, "N/m", Material, "", "Stretch stiffness, a membrane modulus")           \
+  REAL(bend, kAuto, NonNegative, "N m", Material, "", "Bending stiffness")                               \
+  REAL(drag, kAuto, NonNegative, "1/s", Material, "", "Velocity damping per kilogram")                   \
+  REAL(thickness, kAuto, Positive, "m", Material, "", "Distance the cloth keeps from colliders")         \
+  REAL(friction, kAuto, NonNegative, "", Any, "", "Kinetic friction coefficient against colliders")      \
+  REAL(static_friction, kAuto, NonNegative, "", Any, "", "Static friction coefficient (at least friction)") \
+  REAL(mass, 0.1, Positive, "kg", Seed, "mass", "Mass per point")                                        \
+  REAL(k_struct, 400.0, NonNegative, "N/m", Seed, "stiff", "Structural spring stiffness")                \
+  REAL(k_bend, 50.0, NonNegative, "N/m", Seed, "wstiff", "Bend spring stiffness")                        \
+  REAL(damping, 0.1, NonNegative, "N s/m", Seed, "damp", "Damping gamma of report eq. 6")                \
+  REAL(epsilon, 0.1, Positive, "m", Seed, "", "Collision band epsilon of report eq. 12")                 \
+  REAL(k_rep, 600.0, NonNegative, "N/m", Seed, "", "Penalty stiffness k_rep of report eq. 12")           \
+  REAL(gravity_x, 0.0, Finite, "m/s^2", Any, "", "Gravity, x component")                                 \
+  REAL(gravity_y, -9.81, Finite, "m/s^2", Any, "", "Gravity, y component (Blender's OBJ export is Y up)")\
+  REAL(gravity_z, 0.0, Finite, "m/s^2", Any, "", "Gravity, z component")                                 \
+  CHOICE(integrator, Integrator, Auto, Any, "",                                                          \
+         "Time integrator (auto: xpbd for a material, symplectic-euler for the seed model)")
 
 // The time integrators, the seed's first: I(enumerator, name, order, force evaluations per
 // step, what it is). integrators.hpp says more about each.
@@ -45,13 +62,18 @@
 
 namespace clothsim {
 
+/// A time integrator; Auto is resolved when the Model is built (resolve_options()).
 enum class Integrator : std::uint8_t {
+  Auto,
 #define CLOTHSIM_ENUMERATOR(e, ...) e,
   CLOTHSIM_INTEGRATORS(CLOTHSIM_ENUMERATOR)
 #undef CLOTHSIM_ENUMERATOR
 };
 
-/// Numbers a user sets; the defaults are the 2016 report's. Fields: the table above.
+/// The default of an option the material or the simulator fills in ("auto").
+inline constexpr double kAuto = __builtin_nan("");
+
+/// Numbers a user sets; the seed model's defaults are the 2016 report's. Fields: the table above.
 struct Options {
 #define CLOTHSIM_REAL_FIELD(name, def, ...) double name = def;
 #define CLOTHSIM_CHOICE_FIELD(name, type, def, ...) type name = type::def;
@@ -62,6 +84,8 @@ struct Options {
 
 /// The values a REAL option may take.
 enum class Range : std::uint8_t { Positive, NonNegative, Finite };
+/// Which model an option belongs to (the group column of the table).
+enum class OptionGroup : std::uint8_t { Any, Material, Seed };
 
 /// One row of the table, as the generic code (command line, help, report, PARAMS) reads it.
 struct OptionInfo {
@@ -70,6 +94,8 @@ struct OptionInfo {
   std::string_view seed_alias;  ///< the 2016 program's option without its '-', or ""
   std::string_view help;
   bool is_choice = false;
+  OptionGroup group = OptionGroup::Any;
+  bool autoable = false;                      ///< takes "auto" (its default is kAuto or Auto)
   Range range = Range::Finite;                ///< REAL options only
   std::span<const std::string_view> choices;  ///< CHOICE options only: the names
   /// Sets the option from text (a decimal number, or one of the choices); empty, or a
@@ -78,8 +104,10 @@ struct OptionInfo {
   std::string (*set)(Options&, std::string_view text) = nullptr;
   /// The value as text (a number with 17 significant digits at most, as short as reads back).
   std::string (*text)(const Options&) = nullptr;
-  /// The value of a REAL option (NaN for a choice).
+  /// The value of a REAL option (NaN for a choice, or "auto").
   double (*value)(const Options&) = nullptr;
+  /// Whether the option holds "auto".
+  bool (*is_auto)(const Options&) = nullptr;
 
   /// The command-line flag: "--" + name with '_' as '-'.
   std::string flag() const;
@@ -102,6 +130,27 @@ std::string check_param(std::string_view key, std::string_view value);
 /// Empty when every option is in its range, else a one-line reason naming the first that is not.
 std::string validate_options(const Options& options);
 
+/// An option set for the model it does not belong to (resolve_options()).
+struct ModelMismatch : std::invalid_argument {
+  ModelMismatch(std::string option_name, const std::string& what)
+      : std::invalid_argument(what), option(std::move(option_name)) {}
+  std::string option;  ///< its name (a PARAMS key)
+};
+
+/// The material and the integrator with "auto" decided: Auto material is Cotton, or Seed when
+/// `seed_given` (an option of the seed group was given); every auto Material-group quantity
+/// and friction take the preset's values (friction 0 for the seed model, as in 2016); an auto
+/// integrator is XPBD for a material and symplectic Euler for the seed model. Throws
+/// ModelMismatch when an option of one model is set (not auto, not its default) for the
+/// other: its message names the option and the model that takes it.
+Options resolve_options(Options options, bool seed_given);
+
+/// Whether an option of the seed group holds another value than its default.
+bool seed_options_set(const Options& options);
+
+/// The materials, the seed model last: "cotton, silk, denim, leather, rubber, seed".
+std::string material_names();
+
 /// The text of a number as the report and help show it: the shortest that reads back exactly.
 std::string number_text(double value);
 
@@ -110,7 +159,20 @@ std::string number_text(double value);
 /// worded to follow an option's name.
 std::string parse_number(std::string_view text, double& value);
 
-/// The time integrators, in the table's order.
+/// The 2016 program's per-vertex model with its defaults (material seed): mass per point,
+/// spring constants, the penalty band of report eq. 12.
+inline Options seed_options();
+
+/// Whether `o` uses the 2016 program's per-vertex model (material seed).
+inline bool is_seed(const Options& o) { return o.material == Material::Seed; }
+
+inline Options seed_options() {
+  Options o;
+  o.material = Material::Seed;
+  return o;
+}
+
+/// The time integrators, in the table's order (not Auto).
 std::span<const Integrator> all_integrators();
 /// The command-line name, e.g. "symplectic-euler".
 const char* to_string(Integrator method);

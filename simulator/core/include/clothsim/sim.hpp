@@ -46,21 +46,44 @@ struct Drag {
 /// Declared here only by name; the collision module owns the definition.
 struct ColliderSet;
 
+/// How the cloth meets the colliders, derived when the Model is built (docs/physics.md,
+/// "Contact"): from epsilon and k_rep for the seed model, from the material and the mesh
+/// otherwise.
+struct ContactParams {
+  double distance = 0.0;  ///< m, the distance kept from a collider: the penalty band epsilon of
+                          ///< report eq. 12, and where the position-based contact puts a point
+  double band = 0.0;      ///< m, how far the position-based contact looks (>= distance)
+  double k_rep = 0.0;     ///< N/m, the penalty stiffness of the force-based integrators
+  double friction = 0.0, static_friction = 0.0;  ///< Coulomb coefficients, kinetic and static
+};
+
 /// Built once; step() reads it and never changes it. One Model can drive many States.
 /// Per-mass arrays have n = mass_count() entries, per-spring arrays s = spring_count().
 struct Model {
-  Options options;                       ///< the options it was built with (k_struct, k_bend: see spring_stiffness)
+  Options options;                       ///< as built: "auto" decided, the material's values filled in
   std::string scene_name;
 
   Eigen::Matrix3Xd x0;                   ///< (3 x n) initial positions
-  Eigen::VectorXd mass;                  ///< (n) kg
+  Eigen::VectorXd mass;                  ///< (n) kg: per point (seed), or a third of the adjacent triangles' area
+                                         ///< times the density
   Eigen::VectorXd inv_mass;              ///< (n) 1/kg, 0 for pinned masses
   std::vector<std::uint8_t> pinned;      ///< (n) 1 if the mass never moves
 
   std::vector<std::uint32_t> spring_a, spring_b;  ///< (s) global mass indices
   Eigen::VectorXd rest_length0;          ///< (s) m
-  std::vector<std::uint8_t> spring_kind; ///< (s) 0 structural (k_struct), 1 bend (k_bend): b2o::SpringKind
+  std::vector<std::uint8_t> spring_kind; ///< (s) 0 structural, 1 bend: b2o::SpringKind
+  /// (s) a spring's share of its kind's modulus: k = spring_modulus[kind] * scale. The seed
+  /// model: 1 (k_struct, k_bend); a material: from the edge's rest length and adjacent areas.
+  std::vector<float> spring_scale;
+  double spring_modulus[2] = {0.0, 0.0}; ///< N/m: k_struct, k_bend; or the material's stretch (N/m) and bend (N m)
 
+  /// Velocity damping of mass i: damping + drag * mass[i] (N s/m). The seed model's gamma is
+  /// the same for every point; a material's drag is per kilogram.
+  double damping = 0.0;                  ///< N s/m
+  double drag = 0.0;                     ///< 1/s
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< m/s^2
+
+  ContactParams contact;
   std::vector<ClothRange> cloths;        ///< masses/springs grouped by cloth object
 
   /// Collider triangles with their broadphase, built once (may be empty).
@@ -69,8 +92,12 @@ struct Model {
   std::size_t mass_count() const { return static_cast<std::size_t>(x0.cols()); }
   std::size_t spring_count() const { return spring_a.size(); }
 
-  /// N/m. Not stored per spring: the kind says which of the two options applies.
-  double spring_stiffness(std::size_t s) const { return spring_kind[s] == 0 ? options.k_struct : options.k_bend; }
+  /// N/m.
+  double spring_stiffness(std::size_t s) const {
+    return spring_modulus[spring_kind[s] != 0] * static_cast<double>(spring_scale[s]);
+  }
+  /// N s/m, mass i's velocity damping.
+  double damping_of(std::size_t i) const { return damping + drag * mass[static_cast<Eigen::Index>(i)]; }
 };
 
 /// The only thing that changes.

@@ -57,6 +57,9 @@ struct Workspace {
   /// made by make_workspace when the model has colliders. Copies of the Workspace share it
   /// (results stay exact); do not step two copies at the same time.
   std::shared_ptr<detail::CollisionScratch> collision;
+  /// (3 x n) the contact forces of the last force stage, apart, for the friction of the
+  /// force-based integrators (empty without friction or colliders, or for XPBD).
+  Eigen::Matrix3Xd contact_f;
   Drag drag;                                 ///< the drag of the state being stepped
   double last_penetration = 0.0;             ///< m, deepest point behind a collider in the last force stage
   std::uint32_t last_contacts = 0;           ///< points inside a collider band in the last force stage
@@ -87,6 +90,12 @@ void compute_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::
 /// The penalty forces of every collider on the masses at x (report eq. 12), added to f, on
 /// ws.threads threads for large models; records the deepest penetration and the contacts in ws.
 void add_contact_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f, Workspace& ws);
+
+/// Coulomb friction of the force-based integrators, after their update: for each mass in
+/// contact, with the normal impulse h |f_c| / m of the step's contact force f_c (ws.contact_f),
+/// the tangential velocity v_t stops when |v_t| <= static_friction * that impulse, else loses
+/// friction * that impulse (Bridson, Fedkiw, Anderson 2002). Never adds energy.
+void apply_friction(const Model& model, State& state, const Workspace& ws, double h);
 
 /// Pinned masses around an integrator's update: save_pins() keeps their positions in ws,
 /// restore_pins() puts the exact bits back and zeroes their velocities.

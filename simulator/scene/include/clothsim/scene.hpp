@@ -19,11 +19,13 @@ struct BakedParams {
     std::string key, why;             ///< why: worded to follow the key ("must be ... (got -1)")
   };
   std::vector<Refused> refused;       ///< values the option refuses (not applied)
+  bool seed_given = false;            ///< an option of the seed model is baked (it selects that model)
 };
 BakedParams read_scene_params(const b2o::Scene& scene, Options base = {});
 
-/// `base` with the scene's baked PARAMS applied; unknown keys are ignored. Throws
-/// std::runtime_error naming the scene and the key for a value the option refuses.
+/// `base` with the scene's baked PARAMS applied and resolved (resolve_options(): the material
+/// and the integrator decided); unknown keys are ignored. Throws std::runtime_error naming the
+/// scene and the key for a value the option refuses, or options of two models.
 Options scene_options(const b2o::Scene& scene, Options base = {});
 
 /// Every cloth object becomes masses + springs (+ pins); every other object with triangles
