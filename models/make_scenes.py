@@ -4,7 +4,8 @@ Run headless (Blender 3.4, factory settings, no .blend file involved):
 
     blender -b --factory-startup -P models/make_scenes.py -- [--out DIR] [SCENE ...]
 
-SCENE is any of: skirt dice hanging skirt_hires (default: all). Each scene goes
+SCENE is any of: skirt dice hanging skirt_hires tablecloth tablecloth_fine drape
+(default: all). Each scene goes
 to DIR/<scene>/<scene>.obj + .mtl + its PNG textures (DIR defaults to the folder
 of this script). The textures are drawn here by a tiny PNG writer, so nothing is
 random and a second run writes byte-identical files. After exporting, the script
@@ -79,12 +80,17 @@ def make_material(name, color, image_path=None, roughness=0.7, specular=0.3):
     return mat
 
 
-def new_object(name, bm, material, smooth):
+def new_object(name, bm, material, smooth, auto_smooth=None):
+    """auto_smooth: an angle in degrees; edges sharper than it keep flat normals
+    (the exporter then writes split normals, e.g. a cylinder's rim)."""
     for f in bm.faces:
         f.smooth = smooth
     me = bpy.data.meshes.new(name)
     bm.to_mesh(me)
     bm.free()
+    if auto_smooth is not None:
+        me.use_auto_smooth = True
+        me.auto_smooth_angle = math.radians(auto_smooth)
     me.materials.append(material)
     obj = bpy.data.objects.new(name, me)
     bpy.context.scene.collection.objects.link(obj)
@@ -137,6 +143,17 @@ def tiles_texture(path, tiles=10, cell=32):
             return grout
         return stones[((x // cell) + (y // cell)) % 2]
     write_png(path, tiles * cell, tiles * cell, pixel)
+
+
+def gingham_texture(path, bands, cell, colour, white):
+    """Gingham: `bands` stripes each way, every other one coloured; where two
+    coloured stripes cross the colour is full, where one crosses white it is half."""
+    half = tuple((a + b) // 2 for a, b in zip(colour, white))
+
+    def pixel(x, y):
+        n = (x // cell) % 2 + (y // cell) % 2
+        return (white, half, colour)[n]
+    write_png(path, bands * cell, bands * cell, pixel)
 
 
 # Pip positions on a unit face (u right, v up) for the faces 1..6.
@@ -364,6 +381,158 @@ def build_hanging(out_dir, name):
 
 
 # --------------------------------------------------------------------------- #
+# scene 4: a square tablecloth over a round table
+# --------------------------------------------------------------------------- #
+
+TABLE_TOP_Y = 0.75        # the table top's upper surface
+TABLE_RADIUS = 1.0
+TABLE_THICKNESS = 0.04
+TABLE_SEGMENTS = 64
+PEDESTAL_RADIUS = 0.08
+PEDESTAL_SEGMENTS = 32
+TABLECLOTH_SIZE = 3.0
+TABLECLOTH_Y = 0.80       # 5 cm above the table top
+TABLE_FLOOR_SIZE = 8.0
+
+
+def cylinder(radius, y0, y1, segments):
+    """A closed vertical cylinder (OBJ y0 .. y1 on the Y axis): quads around,
+    each cap a fan of triangles around a centre vertex; normals outwards."""
+    bm = bmesh.new()
+    bm.loops.layers.uv.new("UVMap")
+    bmesh.ops.create_cone(bm, cap_ends=True, cap_tris=True, segments=segments,
+                          radius1=radius, radius2=radius, depth=y1 - y0,
+                          matrix=Matrix.Translation(B(0.0, (y0 + y1) / 2, 0.0)), calc_uvs=True)
+    assert all(e.is_manifold and not e.is_boundary for e in bm.edges), "cylinder not closed"
+    return bm
+
+
+def build_tablecloth(out_dir, name, n):
+    fresh_scene()
+    os.makedirs(out_dir, exist_ok=True)
+    cloth_png = os.path.join(out_dir, "tablecloth_gingham.png")
+    floor_png = os.path.join(out_dir, "floor_tiles.png")
+    # 40 stripes each way over the 3 m cloth: 7.5 cm, one quad of the 40 x 40 grid
+    gingham_texture(cloth_png, 40, 8, (170, 30, 45), (248, 244, 236))
+    tiles_texture(floor_png, tiles=8)  # 1 m tiles
+
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    grid(bm, uv, n, TABLECLOTH_SIZE, (0.0, TABLECLOTH_Y, 0.0))
+    new_object("Tablecloth", bm, make_material("TableclothGingham", (0.8, 0.35, 0.35), cloth_png),
+               smooth=True)
+
+    wood = make_material("TableWood", (0.42, 0.27, 0.15), roughness=0.5)
+    new_object("TableTop", cylinder(TABLE_RADIUS, TABLE_TOP_Y - TABLE_THICKNESS, TABLE_TOP_Y,
+                                    TABLE_SEGMENTS), wood, smooth=True, auto_smooth=30.0)
+    new_object("Pedestal", cylinder(PEDESTAL_RADIUS, 0.0, TABLE_TOP_Y - TABLE_THICKNESS,
+                                    PEDESTAL_SEGMENTS), wood, smooth=True, auto_smooth=30.0)
+
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    grid(bm, uv, 8, TABLE_FLOOR_SIZE, (0.0, 0.0, 0.0))
+    new_object("Floor", bm, make_material("FloorTiles", (0.75, 0.73, 0.68), floor_png),
+               smooth=False)
+    return export(out_dir, name)
+
+
+# --------------------------------------------------------------------------- #
+# scene 5: a square cloth dropped on Suzanne (non-convex: eyes, ears)
+# --------------------------------------------------------------------------- #
+
+SUZANNE_WIDTH = 1.1       # ear to ear (x), after the subdivision
+DRAPE_CLOTH_SIZE = 2.0
+DRAPE_GAP = 0.15          # the cloth starts 0.15 .. 0.16 above Suzanne's highest point
+DRAPE_FLOOR_SIZE = 4.0
+
+
+def suzanne_mesh():
+    """Blender's Suzanne, closed, subdivided once, lying on her back (face up, +Y)
+    on the floor, centred on the Y axis, triangulated; normals outwards."""
+    bpy.ops.mesh.primitive_monkey_add(size=2.0)
+    obj = bpy.context.active_object
+    bm = bmesh.new()
+    bm.from_mesh(obj.data)
+    # Suzanne is three islands: the head (open at the eyes) and two eyeballs
+    # (open domes). Drop the eyeballs and close the eye holes: two sockets.
+    islands, seen = [], set()
+    for v in bm.verts:
+        if v in seen:
+            continue
+        seen.add(v)
+        island, stack = [], [v]
+        while stack:
+            a = stack.pop()
+            island.append(a)
+            for e in a.link_edges:
+                b = e.other_vert(a)
+                if b not in seen:
+                    seen.add(b)
+                    stack.append(b)
+        islands.append(island)
+    islands.sort(key=len)
+    assert len(islands) == 3, [len(i) for i in islands]
+    bmesh.ops.delete(bm, geom=islands[0] + islands[1], context="VERTS")
+    filled = bmesh.ops.holes_fill(bm, edges=[e for e in bm.edges if e.is_boundary], sides=0)
+    assert len(filled["faces"]) == 2, len(filled["faces"])
+    bmesh.ops.poke(bm, faces=filled["faces"])  # a fan, not a 13-gon, under the subdivision
+    bmesh.ops.recalc_face_normals(bm, faces=bm.faces[:])
+    assert all(e.is_manifold and not e.is_boundary for e in bm.edges), "Suzanne not closed"
+    bm.to_mesh(obj.data)
+    bm.free()
+
+    # One level of Catmull-Clark, applied.
+    mod = obj.modifiers.new("Subdivision", "SUBSURF")
+    mod.levels = mod.render_levels = 1
+    me = bpy.data.meshes.new_from_object(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()))
+    bm = bmesh.new()
+    bm.from_mesh(me)
+    bpy.data.objects.remove(obj)
+    bpy.data.meshes.remove(me)
+
+    # Face up: Blender's Suzanne looks along -Y (Blender); turn her onto her back.
+    bmesh.ops.transform(bm, matrix=Matrix.Rotation(math.radians(-90.0), 4, "X"), verts=bm.verts)
+    lo = [min(v.co[i] for v in bm.verts) for i in range(3)]
+    hi = [max(v.co[i] for v in bm.verts) for i in range(3)]
+    s = SUZANNE_WIDTH / (hi[0] - lo[0])
+    shift = Vector((-(lo[0] + hi[0]) / 2, -(lo[1] + hi[1]) / 2, -lo[2])) * s
+    bmesh.ops.transform(bm, matrix=Matrix.Translation(shift) @ Matrix.Scale(s, 4), verts=bm.verts)
+    bmesh.ops.triangulate(bm, faces=bm.faces[:], quad_method="BEAUTY", ngon_method="BEAUTY")
+    bm.normal_update()
+    assert all(e.is_manifold and not e.is_boundary for e in bm.edges), "Suzanne not closed"
+    return bm
+
+
+def build_drape(out_dir, name):
+    fresh_scene()
+    os.makedirs(out_dir, exist_ok=True)
+    cloth_png = os.path.join(out_dir, "drape_checker.png")
+    floor_png = os.path.join(out_dir, "floor_tiles.png")
+    # 16 x 16 checks of 12.5 cm over the 2 m cloth
+    checker_texture(cloth_png, 16, 16, 16, (230, 140, 30), (245, 240, 225))
+    tiles_texture(floor_png, tiles=8)  # 0.5 m tiles
+
+    bm = suzanne_mesh()
+    top = max(v.co.z for v in bm.verts)  # Blender z = OBJ y
+    new_object("Suzanne", bm, make_material("SuzanneGrey", (0.55, 0.56, 0.6), roughness=0.4),
+               smooth=True)
+    cloth_y = math.ceil((top + DRAPE_GAP) * 100.0) / 100.0
+
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    grid(bm, uv, 50, DRAPE_CLOTH_SIZE, (0.0, cloth_y, 0.0))
+    new_object("Cloth", bm, make_material("DrapeChecker", (0.9, 0.55, 0.12), cloth_png),
+               smooth=True)
+
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    grid(bm, uv, 4, DRAPE_FLOOR_SIZE, (0.0, 0.0, 0.0))
+    new_object("Floor", bm, make_material("FloorTiles", (0.75, 0.73, 0.68), floor_png),
+               smooth=False)
+    return export(out_dir, name)
+
+
+# --------------------------------------------------------------------------- #
 # export and check
 # --------------------------------------------------------------------------- #
 
@@ -382,6 +551,7 @@ def check_obj(path):
     order = []
     cur = None
     nv = 0
+    normals = []
     mtllib = None
     with open(path) as f:
         for line in f:
@@ -391,12 +561,15 @@ def check_obj(path):
             if parts[0] == "mtllib":
                 mtllib = parts[1]
             elif parts[0] == "o":
-                cur = {"v": [], "faces": 0, "tris": 0, "sizes": {}, "mtl": set()}
+                cur = {"v": [], "faces": 0, "tris": 0, "sizes": {}, "mtl": set(),
+                       "v0": nv, "f": [], "vn": normals}
                 objects[parts[1]] = cur
                 order.append(parts[1])
             elif parts[0] == "v":
                 nv += 1
                 cur["v"].append(tuple(float(c) for c in parts[1:4]))
+            elif parts[0] == "vn":
+                normals.append(tuple(float(c) for c in parts[1:4]))
             elif parts[0] == "usemtl":
                 cur["mtl"].add(parts[1])
             elif parts[0] == "f":
@@ -404,6 +577,9 @@ def check_obj(path):
                 for c in corners:
                     idx = c.split("/")
                     assert len(idx) == 3 and all(idx), f"{path}: face corner '{c}' is not v/vt/vn"
+                # (vertex index in this object, normal index in the file), 0-based
+                cur["f"].append([(int(c.split("/")[0]) - 1 - cur["v0"], int(c.split("/")[2]) - 1)
+                                 for c in corners])
                 cur["faces"] += 1
                 cur["tris"] += len(corners) - 2
                 cur["sizes"][len(corners)] = cur["sizes"].get(len(corners), 0) + 1
@@ -426,11 +602,62 @@ def check_obj(path):
     return path, summary, objects
 
 
+def face_normal(vs, face):
+    """Newell's normal of a face (its winding, counter-clockwise seen from the front)."""
+    n = [0.0, 0.0, 0.0]
+    for (a, _), (b, _) in zip(face, face[1:] + face[:1]):
+        p, q = vs[a], vs[b]
+        n[0] += (p[1] - q[1]) * (p[2] + q[2])
+        n[1] += (p[2] - q[2]) * (p[0] + q[0])
+        n[2] += (p[0] - q[0]) * (p[1] + q[1])
+    return n
+
+
+def check_closed_outward(objects, name):
+    """A closed collider: every edge in exactly two faces, once each way (closed,
+    consistently wound), a positive volume (wound outwards) and every face's
+    normals (vn) on the side of its winding."""
+    o = objects[name]
+    vs, faces = o["v"], o["f"]
+    directed = {}
+    for face in faces:
+        for (a, _), (b, _) in zip(face, face[1:] + face[:1]):
+            directed[(a, b)] = directed.get((a, b), 0) + 1
+    assert all(c == 1 for c in directed.values()), f"{name}: an edge twice the same way"
+    assert all((b, a) in directed for a, b in directed), f"{name}: open (a boundary edge)"
+    volume = 0.0
+    for face in faces:
+        p0 = vs[face[0][0]]
+        for (b, _), (c, _) in zip(face[1:-1], face[2:]):
+            p1, p2 = vs[b], vs[c]
+            volume += (p0[0] * (p1[1] * p2[2] - p1[2] * p2[1])
+                       - p0[1] * (p1[0] * p2[2] - p1[2] * p2[0])
+                       + p0[2] * (p1[0] * p2[1] - p1[1] * p2[0])) / 6.0
+    assert volume > 0.0, f"{name}: faces point inwards (volume {volume})"
+    for face in faces:
+        n = face_normal(vs, face)
+        m = [sum(o["vn"][k][i] for _, k in face) for i in range(3)]
+        assert sum(a * b for a, b in zip(n, m)) > 0.0, f"{name}: a face's vn against its winding"
+    return volume
+
+
+def check_flat_up(objects, name, y):
+    """A horizontal sheet at height y, every face wound and shaded up (+Y)."""
+    o = objects[name]
+    assert all(abs(v[1] - y) < 1e-5 for v in o["v"]), (name, y)
+    for face in o["f"]:
+        assert face_normal(o["v"], face)[1] > 0.0, f"{name}: a face points down"
+        assert all(o["vn"][k] == (0.0, 1.0, 0.0) for _, k in face), f"{name}: vn not +Y"
+
+
 def verify(scene, objects):
     """Scene-specific checks of the exported (Y-up) coordinates."""
     def ext(name):
         vs = objects[name]["v"]
         return ([min(v[i] for v in vs) for i in range(3)], [max(v[i] for v in vs) for i in range(3)])
+
+    def near(a, b, tol=1e-4):
+        return abs(a - b) < tol
 
     if scene.startswith("skirt"):
         assert set(objects) == {"Skirt", "Sphere", "Floor"}, sorted(objects)
@@ -442,12 +669,14 @@ def verify(scene, objects):
         lo, hi = ext("Sphere")
         c = [(a + b) / 2 for a, b in zip(lo, hi)]
         assert all(abs(a - b) < 0.05 for a, b in zip(c, SPHERE_CENTRE)), c
+        check_closed_outward(objects, "Sphere")
     elif scene == "dice":
         assert set(objects) == {"RollingDie", "Die", "Plane"}, sorted(objects)
         for d in ("RollingDie", "Die"):
             assert len(objects[d]["v"]) == 8
             lo, _ = ext(d)
             assert 0.5 <= lo[1] <= 1.5, (d, lo)
+            check_closed_outward(objects, d)
         a, b = ext("RollingDie"), ext("Die")
         assert any(a[1][i] < b[0][i] or b[1][i] < a[0][i] for i in range(3)), "dice overlap"
     elif scene == "hanging":
@@ -460,6 +689,42 @@ def verify(scene, objects):
             assert d < 1e-3, (p, d)
         for c in PIN_CORNERS:  # the corners are cloth vertices
             assert min(math.dist(v, c) for v in objects["Cloth"]["v"]) < 1e-6, c
+    elif scene.startswith("tablecloth"):
+        n = 80 if scene == "tablecloth_fine" else 40
+        assert set(objects) == {"Tablecloth", "TableTop", "Pedestal", "Floor"}, sorted(objects)
+        assert len(objects["Tablecloth"]["v"]) == (n + 1) ** 2
+        assert objects["Tablecloth"]["sizes"] == {4: n * n}, objects["Tablecloth"]["sizes"]
+        check_flat_up(objects, "Tablecloth", TABLECLOTH_Y)
+        lo, hi = ext("Tablecloth")
+        h = TABLECLOTH_SIZE / 2
+        assert all(near(c, -h) for c in (lo[0], lo[2])) and all(near(c, h) for c in (hi[0], hi[2]))
+        lo, hi = ext("TableTop")
+        assert near(hi[1], TABLE_TOP_Y) and near(lo[1], TABLE_TOP_Y - TABLE_THICKNESS), (lo, hi)
+        r = max(math.hypot(v[0], v[2]) for v in objects["TableTop"]["v"])
+        assert near(r, TABLE_RADIUS), r
+        lo, hi = ext("Pedestal")
+        assert near(lo[1], 0.0) and near(hi[1], TABLE_TOP_Y - TABLE_THICKNESS), (lo, hi)
+        for c in ("TableTop", "Pedestal"):
+            check_closed_outward(objects, c)
+        check_flat_up(objects, "Floor", 0.0)
+        lo, hi = ext("Floor")
+        assert near(lo[0], -TABLE_FLOOR_SIZE / 2) and near(hi[2], TABLE_FLOOR_SIZE / 2)
+    elif scene == "drape":
+        assert set(objects) == {"Cloth", "Suzanne", "Floor"}, sorted(objects)
+        assert len(objects["Cloth"]["v"]) == 51 * 51
+        assert objects["Cloth"]["sizes"] == {4: 2500}, objects["Cloth"]["sizes"]
+        lo, hi = ext("Suzanne")
+        assert 1.0 <= hi[0] - lo[0] <= 1.2, (lo, hi)
+        assert near(lo[1], 0.0), lo  # on the floor
+        assert abs(lo[0] + hi[0]) < 1e-4 and abs(lo[2] + hi[2]) < 1e-4, (lo, hi)  # centred
+        check_closed_outward(objects, "Suzanne")
+        cloth_y = objects["Cloth"]["v"][0][1]
+        assert 0.1 <= cloth_y - hi[1] <= 0.2, (cloth_y, hi[1])
+        check_flat_up(objects, "Cloth", cloth_y)
+        lo, hi = ext("Cloth")
+        h = DRAPE_CLOTH_SIZE / 2
+        assert all(near(c, -h) for c in (lo[0], lo[2])) and all(near(c, h) for c in (hi[0], hi[2]))
+        check_flat_up(objects, "Floor", 0.0)
 
 
 def main():
@@ -478,6 +743,10 @@ def main():
         "hanging": lambda d: build_hanging(d, "hanging"),
         # the same scene with a 128 x 129-ring skirt (16640 vertices) for performance work
         "skirt_hires": lambda d: build_skirt(d, "skirt_hires", 128, 127),
+        "tablecloth": lambda d: build_tablecloth(d, "tablecloth", 40),
+        # the same table with an 81 x 81 tablecloth
+        "tablecloth_fine": lambda d: build_tablecloth(d, "tablecloth_fine", 80),
+        "drape": lambda d: build_drape(d, "drape"),
     }
     scenes = scenes or list(builders)
     for s in scenes:
