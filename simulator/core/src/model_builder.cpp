@@ -99,6 +99,7 @@ Model ModelBuilder::build() {
     m.spring_modulus[0] = o.stretch;
     m.spring_modulus[1] = o.bend;
     m.drag = o.drag;
+    m.strain_limit = o.strain_limit;
   }
   m.inv_mass.resize(n);
   for (Eigen::Index i = 0; i < n; ++i) m.inv_mass[i] = m.pinned[static_cast<std::size_t>(i)] ? 0.0 : 1.0 / m.mass[i];

@@ -231,12 +231,16 @@ Options resolve_options(Options o, bool seed_given) {
                                         "epsilon, k_rep)"
                                       : "the seed model (material seed); material " +
                                             std::string(Choices<Material>::label(o.material)) +
-                                            " takes density, stretch, bend, drag, thickness"));
+                                            " takes density, stretch, bend, drag, thickness, strain_limit"));
   }
   if (const MaterialPreset* p = material_preset(o.material)) {
+    // a friction given alone keeps the preset's ratio of static to kinetic friction
+    if (std::isnan(o.static_friction) && !std::isnan(o.friction))
+      o.static_friction = o.friction * (p->static_friction / p->friction);
     for (auto [field, value] : {std::pair{&Options::density, p->density}, {&Options::stretch, p->stretch},
                                 {&Options::bend, p->bend}, {&Options::drag, p->drag},
                                 {&Options::thickness, p->thickness}, {&Options::friction, p->friction},
+                                {&Options::strain_limit, p->strain_limit},
                                 {&Options::static_friction, p->static_friction}})
       if (std::isnan(o.*field)) o.*field = value;
   } else {  // the 2016 program: frictionless

@@ -22,6 +22,10 @@ void implicit_euler(const Model& model, State& state, Workspace& ws, double h);
 void fast_mass_spring(const Model& model, State& state, Workspace& ws, double h);
 void xpbd(const Model& model, State& state, Workspace& ws, double h);
 
+/// Strain limiting after the integrator's update: no structural spring past model.strain_limit
+/// (a few passes), positions and velocities together (strain_limit.cpp).
+void limit_strain(const Model& model, State& state, Workspace& ws, double h);
+
 /// a = f / m, row-wise (pinned masses have inv_mass 0).
 inline auto accel(const Model& model, const Eigen::Matrix3Xd& f) {
   return (f.array().rowwise() * model.inv_mass.transpose().array()).matrix();

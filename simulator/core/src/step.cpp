@@ -33,6 +33,7 @@ Workspace make_workspace(const Model& model) {
   const bool friction = model.contact.friction > 0.0 || model.contact.static_friction > 0.0;
   if (friction && model.colliders && model.options.integrator != Integrator::XPBD)
     ws.contact_f = Eigen::Matrix3Xd::Zero(3, n);
+  if (model.strain_limit > 0.0) ws.stretched.reserve(model.spring_count());
   return ws;
 }
 
@@ -71,6 +72,7 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
     case Integrator::Auto: break;  // (resolved when the Model is built)
   }
   if (method != Integrator::XPBD) apply_friction(model, state, ws, h);  // (XPBD's is in its contact)
+  limit_strain(model, state, ws, h);
   restore_pins(state, ws);
   state.t += h;
   ++state.steps;

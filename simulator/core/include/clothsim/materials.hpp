@@ -6,19 +6,21 @@
 #pragma once
 
 // M(enumerator, name, density kg/m^2, stretch N/m, bend N m, drag 1/s, thickness m,
-//   friction, static friction)
+//   friction, static friction, strain limit)
 //   density    mass per area of cloth
 //   stretch    membrane stretch modulus (force per width per strain)
 //   bend       bending rigidity (moment per width per curvature)
 //   drag       velocity damping per kilogram (air and internal losses, lumped)
 //   thickness  the distance the cloth keeps from colliders
 //   friction   Coulomb coefficients against colliders: kinetic, static
-#define CLOTHSIM_MATERIALS(M)                                          \
-  M(Cotton, "cotton", 0.15, 12000.0, 7.0e-6, 0.5, 0.0003, 0.35, 0.45)  \
-  M(Silk, "silk", 0.06, 6000.0, 2.0e-6, 1.0, 0.0001, 0.20, 0.25)      \
-  M(Denim, "denim", 0.40, 15000.0, 5.0e-5, 0.3, 0.0008, 0.45, 0.55)   \
-  M(Leather, "leather", 0.90, 40000.0, 5.0e-4, 0.2, 0.0010, 0.50, 0.60) \
-  M(Rubber, "rubber", 0.50, 750.0, 1.6e-5, 0.2, 0.0005, 0.90, 1.10)
+//   strain limit  the strain at which the yarns are straight and the cloth stops stretching
+//              (the knee of a woven cloth's load curve); 0: none (rubber stretches on)
+#define CLOTHSIM_MATERIALS(M)                                                 \
+  M(Cotton, "cotton", 0.15, 12000.0, 7.0e-6, 0.5, 0.0003, 0.35, 0.45, 0.05)   \
+  M(Silk, "silk", 0.06, 6000.0, 2.0e-6, 1.0, 0.0001, 0.20, 0.25, 0.06)        \
+  M(Denim, "denim", 0.40, 15000.0, 5.0e-5, 0.3, 0.0008, 0.45, 0.55, 0.04)     \
+  M(Leather, "leather", 0.90, 40000.0, 5.0e-4, 0.2, 0.0010, 0.50, 0.60, 0.03) \
+  M(Rubber, "rubber", 0.50, 750.0, 1.6e-5, 0.2, 0.0005, 0.90, 1.10, 0.0)
 
 namespace clothsim {
 
@@ -36,7 +38,7 @@ enum class Material : unsigned char {
 /// A preset's quantities (the M columns above).
 struct MaterialPreset {
   const char* name;
-  double density, stretch, bend, drag, thickness, friction, static_friction;
+  double density, stretch, bend, drag, thickness, friction, static_friction, strain_limit;
 };
 
 /// The preset of a material (Cotton's for Auto; Seed has none: nullptr).

@@ -34,6 +34,8 @@
   REAL(bend, kAuto, NonNegative, "N m", Material, "", "Bending stiffness")                               \
   REAL(drag, kAuto, NonNegative, "1/s", Material, "", "Velocity damping per kilogram")                   \
   REAL(thickness, kAuto, Positive, "m", Material, "", "Distance the cloth keeps from colliders")         \
+  REAL(strain_limit, kAuto, NonNegative, "", Material, "",                                               \
+       "Strain at which the cloth stops stretching (0: none)")                                          \
   REAL(friction, kAuto, NonNegative, "", Any, "", "Kinetic friction coefficient against colliders")      \
   REAL(static_friction, kAuto, NonNegative, "", Any, "", "Static friction coefficient (at least friction)") \
   REAL(mass, 0.1, Positive, "kg", Seed, "mass", "Mass per point")                                        \
@@ -139,8 +141,9 @@ struct ModelMismatch : std::invalid_argument {
 
 /// The material and the integrator with "auto" decided: Auto material is Cotton, or Seed when
 /// `seed_given` (an option of the seed group was given); every auto Material-group quantity
-/// and friction take the preset's values (friction 0 for the seed model, as in 2016); an auto
-/// integrator is XPBD for a material and symplectic Euler for the seed model. Throws
+/// and friction take the preset's values (friction 0 for the seed model, as in 2016; a friction
+/// given alone keeps the preset's static-to-kinetic ratio, and static friction is at least the
+/// kinetic one); an auto integrator is XPBD for a material and symplectic Euler for the seed model. Throws
 /// ModelMismatch when an option of one model is set (not auto, not its default) for the
 /// other: its message names the option and the model that takes it.
 Options resolve_options(Options options, bool seed_given);

@@ -81,6 +81,9 @@ struct Model {
   /// the same for every point; a material's drag is per kilogram.
   double damping = 0.0;                  ///< N s/m
   double drag = 0.0;                     ///< 1/s
+  /// The strain no structural spring goes past after a step (0: none): the cloth's yarns are
+  /// straight there (a material's strain_limit; the seed model has none).
+  double strain_limit = 0.0;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< m/s^2
 
   ContactParams contact;
