@@ -102,11 +102,12 @@ double tridiagonal_last_component(const std::vector<double>& a, const std::vecto
 }
 }  // namespace
 
-double omega_max_bound(const Model& model, bool include_contact) {
+double omega_max_bound(const Model& model, bool include_contact, bool bend_only) {
   const std::size_t n = model.mass_count();
   const double kc = include_contact && has_colliders(model) ? model.contact.k_rep : 0.0;
   std::vector<double> diag(n, kc), off(n, 0.0);
   for (std::size_t s = 0; s < model.spring_count(); ++s) {
+    if (bend_only && model.spring_kind[s] == 0) continue;
     const double k = model.spring_stiffness(s);
     const auto a = model.spring_a[s], b = model.spring_b[s];
     diag[a] += k;
@@ -477,7 +478,10 @@ double max_stoppable_speed(double epsilon, double k_rep, double mass, double h) 
 
 double xpbd_step(const Model& model) {
   const double fall = std::sqrt(2.0 * model.gravity.norm() * drop_height(model));
-  return fall > 0.0 ? std::min(kXpbdStep, model.contact.band / fall) : kXpbdStep;
+  const double bend = omega_max_bound(model, false, true);  // (explicit: symplectic Euler's limit)
+  double h = fall > 0.0 ? std::min(kXpbdStep, model.contact.band / fall) : kXpbdStep;
+  if (bend > 0.0) h = std::min(h, 2.0 / bend);
+  return h;
 }
 
 double drop_height(const Model& model, double lowest_collider) {

@@ -33,7 +33,10 @@ Workspace make_workspace(const Model& model) {
   const bool friction = model.contact.friction > 0.0 || model.contact.static_friction > 0.0;
   if (friction && model.colliders && model.options.integrator != Integrator::XPBD)
     ws.contact_f = Eigen::Matrix3Xd::Zero(3, n);
-  if (model.strain_limit > 0.0) ws.stretched.reserve(model.spring_count());
+  if (model.strain_limit > 0.0) {
+    ws.stretched.reserve(model.spring_count());
+    ws.moved.assign(model.mass_count(), 0);
+  }
   return ws;
 }
 

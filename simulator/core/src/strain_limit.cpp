@@ -5,6 +5,7 @@
 // result does not depend on the thread count.
 #include "stages.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace clothsim::detail {
@@ -12,6 +13,14 @@ namespace clothsim::detail {
 namespace {
 
 constexpr int kPasses = 8;
+
+// Whether spring k is past the cap (squared lengths: no root).
+bool past(const Model& m, std::uint32_t k, double cap, const double* x) {
+  const std::size_t a = 3 * std::size_t{m.spring_a[k]}, b = 3 * std::size_t{m.spring_b[k]};
+  const double dx = x[a] - x[b], dy = x[a + 1] - x[b + 1], dz = x[a + 2] - x[b + 2];
+  const double limit = cap * m.rest_length0[static_cast<Eigen::Index>(k)];
+  return dx * dx + dy * dy + dz * dz > limit * limit;
+}
 
 // Shortens spring k to the cap when it is past it; whether it was.
 bool shorten(const Model& m, std::uint32_t k, double cap, double h, double* x, double* v) {
@@ -39,19 +48,33 @@ void limit_strain(const Model& m, State& s, Workspace& ws, double h) {
   const double cap = 1.0 + m.strain_limit;
   double* x = s.x.data();
   double* v = s.v.data();
-  for (int pass = 0; pass < kPasses; ++pass) {
-    // the springs past the cap, in spring order, then each shortened
-    ws.stretched.clear();
-    for (std::size_t k = 0; k < m.spring_count(); ++k) {
-      if (m.spring_kind[k] != 0) continue;
-      const std::size_t a = 3 * std::size_t{m.spring_a[k]}, b = 3 * std::size_t{m.spring_b[k]};
-      const double dx = x[a] - x[b], dy = x[a + 1] - x[b + 1], dz = x[a + 2] - x[b + 2];
-      const double limit = cap * m.rest_length0[static_cast<Eigen::Index>(k)];
-      if (dx * dx + dy * dy + dz * dz > limit * limit) ws.stretched.push_back(static_cast<std::uint32_t>(k));
+  // First every structural spring; then only those of a mass the last pass moved (ws.moved):
+  // a pass changes nothing elsewhere.
+  ws.stretched.clear();
+  for (std::size_t k = 0; k < m.spring_count(); ++k)
+    if (m.spring_kind[k] == 0 && past(m, static_cast<std::uint32_t>(k), cap, x))
+      ws.stretched.push_back(static_cast<std::uint32_t>(k));
+  const SpringAdjacency* adj = ws.adjacency.get();
+  for (int pass = 0; pass < kPasses && !ws.stretched.empty(); ++pass) {
+    for (const std::uint32_t k : ws.stretched) {
+      shorten(m, k, cap, h, x, v);
+      ws.moved[m.spring_a[k]] = ws.moved[m.spring_b[k]] = 1;
     }
-    if (ws.stretched.empty()) return;
-    for (const std::uint32_t k : ws.stretched) shorten(m, k, cap, h, x, v);
+    if (!adj || pass + 1 == kPasses) break;
+    // the springs of the moved masses, each once, in spring order
+    ws.stretched.clear();
+    for (std::size_t i = 0; i < m.mass_count(); ++i) {
+      if (!ws.moved[i]) continue;
+      ws.moved[i] = 0;
+      for (std::uint32_t e = adj->start[i]; e < adj->start[i + 1]; ++e) {
+        const std::uint32_t k = adj->entry[e] & ~SpringAdjacency::kB;
+        if (m.spring_kind[k] == 0 && past(m, k, cap, x)) ws.stretched.push_back(k);
+      }
+    }
+    std::sort(ws.stretched.begin(), ws.stretched.end());
+    ws.stretched.erase(std::unique(ws.stretched.begin(), ws.stretched.end()), ws.stretched.end());
   }
+  std::fill(ws.moved.begin(), ws.moved.end(), std::uint8_t{0});
 }
 
 }  // namespace clothsim::detail

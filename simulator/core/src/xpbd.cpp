@@ -1,10 +1,12 @@
 // XPBD with small steps (Macklin, Mueller, Chentanez 2016; Macklin et al. 2019): per step the
-// velocities take gravity and the user's pull, and the damping implicitly; the positions are
-// predicted; one Gauss-Seidel pass treats every spring as a compliant distance constraint
-// (alpha = 1/k, lambda from 0); the colliders push the points out to the contact distance,
-// with Coulomb friction on the move (Macklin et al. 2014); the velocities are the positions'
-// change. The pass goes colour by colour: no two springs of a colour share a mass, so a colour
-// splits between threads and the result is the same for any count.
+// velocities take gravity, the bend springs and the user's pull explicitly (the bend springs
+// are soft: the stability guard keeps the step under their limit), and the damping implicitly;
+// the positions are predicted; one Gauss-Seidel pass treats every structural spring as a
+// compliant distance constraint (alpha = 1/k, lambda from 0); the colliders push the points
+// out to the contact distance, with Coulomb friction on the move (Macklin et al. 2014); the
+// velocities are the positions' change. The pass goes colour by colour: no two springs of a
+// colour share a mass, so a colour splits between threads and the result is the same for any
+// count.
 #include "integrator_scratch.hpp"
 #include "parallel.hpp"
 #include "stages.hpp"
@@ -24,6 +26,7 @@ void colour_springs(const Model& m, IntegratorScratch& sc) {
   std::vector<std::uint8_t> colour(m.spring_count());
   std::vector<std::uint32_t> count(kSerial + 1, 0);
   for (std::size_t s = 0; s < m.spring_count(); ++s) {
+    if (m.spring_kind[s] != 0) continue;  // (the bend springs are forces)
     const std::uint64_t taken = used[m.spring_a[s]] | used[m.spring_b[s]];
     const int c = ~taken & ((std::uint64_t{1} << kSerial) - 1) ? __builtin_ctzll(~taken) : kSerial;
     colour[s] = static_cast<std::uint8_t>(c);
@@ -32,9 +35,10 @@ void colour_springs(const Model& m, IntegratorScratch& sc) {
   }
   sc.colour_start.assign(kSerial + 2, 0);
   for (int c = 0; c <= kSerial; ++c) sc.colour_start[static_cast<std::size_t>(c) + 1] = sc.colour_start[static_cast<std::size_t>(c)] + count[static_cast<std::size_t>(c)];
-  sc.colour_springs.resize(m.spring_count());
+  sc.colour_springs.resize(sc.colour_start.back());
   std::vector<std::uint32_t> fill(sc.colour_start.begin(), sc.colour_start.end() - 1);
-  for (std::size_t s = 0; s < m.spring_count(); ++s) sc.colour_springs[fill[colour[s]]++] = static_cast<std::uint32_t>(s);
+  for (std::size_t s = 0; s < m.spring_count(); ++s)
+    if (m.spring_kind[s] == 0) sc.colour_springs[fill[colour[s]]++] = static_cast<std::uint32_t>(s);
 }
 
 // One spring as a compliant distance constraint (lambda from 0): alpha~ = 1 / (k h^2).
@@ -53,9 +57,27 @@ inline void project_spring(const Model& m, std::uint32_t s, double inv_h2, doubl
   pb[0] -= wb * scale * dx, pb[1] -= wb * scale * dy, pb[2] -= wb * scale * dz;
 }
 
-// The velocities: gravity and the user's pull explicitly, the damping implicitly
-// (v <- (v + h a) / (1 + h gamma / m): stable for any step).
+// The bend springs' pull on the velocities (report eq. 4), spring by spring.
+void bend_forces(const Model& m, State& s, double h) {
+  const double* x = s.x.data();
+  double* v = s.v.data();
+  for (std::size_t k = 0; k < m.spring_count(); ++k) {
+    if (m.spring_kind[k] == 0) continue;
+    const std::size_t a = m.spring_a[k], b = m.spring_b[k];
+    const double dx = x[3 * a] - x[3 * b], dy = x[3 * a + 1] - x[3 * b + 1], dz = x[3 * a + 2] - x[3 * b + 2];
+    const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (len == 0.0) continue;
+    const double c = h * m.spring_stiffness(k) * (m.rest_length0[static_cast<Eigen::Index>(k)] - len) / len;
+    const double ca = c * m.inv_mass[static_cast<Eigen::Index>(a)], cb = c * m.inv_mass[static_cast<Eigen::Index>(b)];
+    v[3 * a] += ca * dx, v[3 * a + 1] += ca * dy, v[3 * a + 2] += ca * dz;
+    v[3 * b] -= cb * dx, v[3 * b + 1] -= cb * dy, v[3 * b + 2] -= cb * dz;
+  }
+}
+
+// The velocities: gravity, the bend springs and the user's pull explicitly, the damping
+// implicitly (v <- (v + h a) / (1 + h gamma / m): stable for any step).
 void take_forces(const Model& m, State& s, const Workspace& ws, double h) {
+  bend_forces(m, s, h);
   const auto n = static_cast<std::int64_t>(m.mass_count());
   [[maybe_unused]] const int nt = team(ws, m.mass_count());
 #pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)

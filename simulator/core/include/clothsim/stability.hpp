@@ -21,8 +21,9 @@
 namespace clothsim {
 
 /// Safe upper bound on omega_max (Gershgorin's circles of M^-1 K), rad/s:
-/// omega^2 <= max_i (2 sum_j k_ij + k_c) / m_i over free masses; k_c = k_rep if requested.
-double omega_max_bound(const Model& model, bool include_contact);
+/// omega^2 <= max_i (2 sum_j k_ij + k_c) / m_i over free masses; k_c = k_rep if requested; of
+/// the bend springs alone if `bend_only`.
+double omega_max_bound(const Model& model, bool include_contact, bool bend_only = false);
 
 /// What the Lanczos iteration found.
 struct OmegaEstimate {
@@ -45,10 +46,10 @@ double omega_contact(const Model& model);
 /// +infinity for the unconditionally stable methods; 0 when no h > 0 is stable.
 double stable_dt(Integrator method, double omega, double zeta = 0.0);
 
-/// s, XPBD's step: it is stable at any step, but the strain its one pass leaves grows with the
-/// step (about 1 % at 1 ms on a cloth of 128 edges, docs/stability.md), and its contact must
-/// see a point before it passes: at most kXpbdStep, and at most the contact band over the
-/// fastest fall (so that a falling point moves less than the band per step).
+/// s, XPBD's step: its structural springs are stable at any step, but the strain its one pass
+/// leaves grows with the step, and its contact must see a point before it passes: at most
+/// kXpbdStep, at most the contact band over the fastest fall (a falling point moves less than
+/// the band per step), and under the explicit limit 2 / omega of its bend springs.
 inline constexpr double kXpbdStep = 1e-3;
 double xpbd_step(const Model& model);
 
