@@ -7,6 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <queue>
+#include <tuple>
 #include <unordered_map>
 
 namespace clothsim {
@@ -86,6 +89,42 @@ void material_spring_scales(Model& m, std::span<const std::uint32_t> triangles) 
     }
     m.spring_scale[s] = static_cast<float>(scale);
   }
+}
+
+void long_range_attachments(Model& m) {
+  constexpr std::size_t K = Model::kAttachments;
+  const std::size_t n = m.mass_count();
+  m.attach_pin.assign(n * K, Model::kNoPin);
+  m.attach_rest.assign(n * K, 0.0f);
+  // the structural springs of every mass (CSR)
+  std::vector<std::uint32_t> start(n + 1, 0), nb;
+  for (std::size_t s = 0; s < m.spring_count(); ++s)
+    if (m.spring_kind[s] == 0) ++start[m.spring_a[s] + 1], ++start[m.spring_b[s] + 1];
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+  nb.resize(start[n]);
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t s = 0; s < m.spring_count(); ++s)
+    if (m.spring_kind[s] == 0) nb[fill[m.spring_a[s]]++] = static_cast<std::uint32_t>(s), nb[fill[m.spring_b[s]]++] = static_cast<std::uint32_t>(s);
+  // Dijkstra from every pin at once: a mass is settled once per pin, at most K times
+  using Item = std::tuple<double, std::uint32_t, std::uint32_t>;  // (distance, mass, pin)
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  for (std::size_t i = 0; i < n; ++i)
+    if (m.pinned[i]) queue.emplace(0.0, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(i));
+  std::vector<std::uint8_t> settled(n, 0);
+  while (!queue.empty()) {
+    const auto [d, i, pin] = queue.top();
+    queue.pop();
+    std::uint32_t* pins = &m.attach_pin[std::size_t{i} * K];
+    if (settled[i] == K || std::find(pins, pins + settled[i], pin) != pins + settled[i]) continue;
+    m.attach_rest[std::size_t{i} * K + settled[i]] = static_cast<float>(d);
+    pins[settled[i]++] = pin;
+    for (std::uint32_t e = start[i]; e < start[i + 1]; ++e) {
+      const std::uint32_t s = nb[e], j = m.spring_a[s] == i ? m.spring_b[s] : m.spring_a[s];
+      if (settled[j] < K && !m.pinned[j]) queue.emplace(d + m.rest_length0[static_cast<Eigen::Index>(s)], j, pin);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i)  // a pin's own attachments: none
+    if (m.pinned[i]) std::fill_n(&m.attach_pin[i * K], K, Model::kNoPin);
 }
 
 double mean_structural_length(const Model& m) {

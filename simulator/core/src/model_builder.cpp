@@ -100,6 +100,8 @@ Model ModelBuilder::build() {
     m.spring_modulus[1] = o.bend;
     m.drag = o.drag;
     m.strain_limit = o.strain_limit;
+    if (m.strain_limit > 0.0 && std::count(m.pinned.begin(), m.pinned.end(), std::uint8_t{1}) > 0)
+      long_range_attachments(m);
   }
   m.inv_mass.resize(n);
   for (Eigen::Index i = 0; i < n; ++i) m.inv_mass[i] = m.pinned[static_cast<std::size_t>(i)] ? 0.0 : 1.0 / m.mass[i];

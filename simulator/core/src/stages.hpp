@@ -6,6 +6,7 @@
 #include <clothsim/step.hpp>
 
 #include <memory>
+#include <vector>
 
 namespace clothsim::detail {
 

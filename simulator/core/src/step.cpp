@@ -36,6 +36,8 @@ Workspace make_workspace(const Model& model) {
   if (model.strain_limit > 0.0) {
     ws.stretched.reserve(model.spring_count());
     ws.moved.assign(model.mass_count(), 0);
+    ws.moved_list.reserve(model.mass_count());
+    ws.listed.assign(model.spring_count(), 0);
   }
   return ws;
 }

@@ -29,6 +29,11 @@ void material_spring_scales(Model& model, std::span<const std::uint32_t> triangl
 /// The contact of a material's cloth: its distance, band and penalty (ContactParams).
 ContactParams material_contact(const Model& model, const Options& options);
 
+/// The long-range attachments of the pinned masses (Model::attach_pin, attach_rest): the
+/// kAttachments nearest pins of every free mass along the structural springs (Dijkstra from
+/// all pins at once, each mass settled once per pin).
+void long_range_attachments(Model& model);
+
 /// The mean rest length of the structural springs (0 without any).
 double mean_structural_length(const Model& model);
 

@@ -84,6 +84,15 @@ struct Model {
   /// The strain no structural spring goes past after a step (0: none): the cloth's yarns are
   /// straight there (a material's strain_limit; the seed model has none).
   double strain_limit = 0.0;
+  /// Long-range attachments (Kim, Chentanez, Mueller 2012) of a pinned cloth with a strain
+  /// limit: each free mass's nearest pins along the cloth (up to kAttachments) and its distance
+  /// to them there at rest; after a step no mass is farther from such a pin than
+  /// (1 + strain_limit) times that, so a cloth hanging from its pins does not stretch however
+  /// fine its mesh. Empty without pins or a strain limit.
+  static constexpr std::size_t kAttachments = 2;
+  std::vector<std::uint32_t> attach_pin;  ///< (n x kAttachments) the pin's mass, or kNoPin
+  std::vector<float> attach_rest;         ///< (n x kAttachments) m, the distance along the cloth
+  static constexpr std::uint32_t kNoPin = 0xffffffffu;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< m/s^2
 
   ContactParams contact;

@@ -62,6 +62,8 @@ struct Workspace {
   Eigen::Matrix3Xd contact_f;
   std::vector<std::uint32_t> stretched;      ///< the springs past the strain limit (limit_strain's list)
   std::vector<std::uint8_t> moved;           ///< (n) limit_strain's marks: masses its last pass moved
+  std::vector<std::uint32_t> moved_list;     ///< those masses
+  std::vector<std::uint8_t> listed;          ///< (s) limit_strain's marks: springs in its next pass
   Drag drag;                                 ///< the drag of the state being stepped
   double last_penetration = 0.0;             ///< m, deepest point behind a collider in the last force stage
   std::uint32_t last_contacts = 0;           ///< points inside a collider band in the last force stage
