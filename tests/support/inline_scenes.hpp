@@ -39,4 +39,32 @@ inline Model grid_model(const Options& o, int w, int h, std::vector<std::uint32_
   return b.build();
 }
 
+/// A 1 m square cloth of n x n points in the XZ plane at y = 0, triangulated (two triangles a
+/// quad), with structural springs on the triangles' edges and bend springs across the quads'
+/// shared edges; pinned at its two corners at z = 0 (its masses and spring constants come
+/// from the areas: a material's cloth).
+inline Model square_cloth(const Options& o, int n) {
+  Eigen::Matrix3Xd x(3, n * n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) x.col(j * n + i) = Eigen::Vector3d(double(i) / (n - 1), 0.0, double(j) / (n - 1));
+  auto id = [n](int i, int j) { return static_cast<std::uint32_t>(j * n + i); };
+  std::vector<SpringSpec> s;
+  std::vector<std::uint32_t> t;
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      t.insert(t.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+      s.push_back({id(i, j), id(i + 1, j + 1), 0});  // the diagonal
+      if (i + 2 < n) s.push_back({id(i, j), id(i + 2, j + 1), 1});  // across the edge (i+1, j)-(i+1, j+1)
+      if (j + 2 < n) s.push_back({id(i, j), id(i + 1, j + 2), 1});  // across the edge (i, j+1)-(i+1, j+1)
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if (i + 1 < n) s.push_back({id(i, j), id(i + 1, j), 0});
+      if (j + 1 < n) s.push_back({id(i, j), id(i, j + 1), 0});
+    }
+  ModelBuilder b(o, "square");
+  b.add_cloth(x, s, std::vector<std::uint32_t>{id(0, 0), id(n - 1, 0)}, t);
+  return b.build();
+}
+
 }  // namespace clothsim::test

@@ -1,5 +1,6 @@
 // The stability guard; see stability.hpp and docs/stability.md.
 #include <clothsim/integrators.hpp>
+#include <clothsim/material.hpp>
 #include <clothsim/stability.hpp>
 
 #include <Eigen/Dense>
@@ -479,7 +480,9 @@ double max_stoppable_speed(double epsilon, double k_rep, double mass, double h) 
 double xpbd_step(const Model& model) {
   const double fall = std::sqrt(2.0 * model.gravity.norm() * drop_height(model));
   const double bend = omega_max_bound(model, false, true);  // (explicit: symplectic Euler's limit)
+  const double edge = mean_structural_length(model);
   double h = fall > 0.0 ? std::min(kXpbdStep, model.contact.band / fall) : kXpbdStep;
+  if (edge > 0.0) h = std::min(h, edge / kXpbdSpeed);
   if (bend > 0.0) h = std::min(h, 2.0 / bend);
   return h;
 }

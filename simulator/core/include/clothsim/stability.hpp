@@ -46,11 +46,14 @@ double omega_contact(const Model& model);
 /// +infinity for the unconditionally stable methods; 0 when no h > 0 is stable.
 double stable_dt(Integrator method, double omega, double zeta = 0.0);
 
-/// s, XPBD's step: its structural springs are stable at any step, but the strain its one pass
-/// leaves grows with the step, and its contact must see a point before it passes: at most
-/// kXpbdStep, at most the contact band over the fastest fall (a falling point moves less than
-/// the band per step), and under the explicit limit 2 / omega of its bend springs.
+/// s, XPBD's step: its structural springs are stable at any step, but its one pass carries a
+/// pull about one edge a step, so the strain it leaves grows with the step over the edge: at
+/// most kXpbdStep and the mean edge over kXpbdSpeed (a 1 m cloth hanging from two corners then
+/// sags alike at 20 x 20 and 80 x 80 quads: tests/core/refinement_test.cpp); at most the
+/// contact band over the fastest fall (a falling point moves less than the band per step); and
+/// under the explicit limit 2 / omega of its bend springs.
 inline constexpr double kXpbdStep = 1e-3;
+inline constexpr double kXpbdSpeed = 50.0;  ///< m/s
 double xpbd_step(const Model& model);
 
 /// Everything the guard knows about a Model, printed at start and put in the JSON report.
