@@ -28,6 +28,7 @@ json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 // What the end state looks like.
 struct Outcome {
   Eigen::Vector3d lo, hi;   ///< the cloth's box (NaN for a failed run or no cloth)
+  Eigen::Vector3d centre;   ///< its centre of mass
   double kinetic = 0.0;     ///< J
   bool ke_overflow = false; ///< finite, but the kinetic energy overflows a double
   double reach = 0.0;       ///< m, how far behind a surface the search sees (2 eps)
@@ -36,10 +37,11 @@ struct Outcome {
 
 Outcome outcome(const RunConfig& c, const Plan& p, const RunResult& r) {
   Outcome o;
-  o.lo = o.hi = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  o.lo = o.hi = o.centre = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   if (p.model.mass_count() > 0 && r.finite) {  // (a failed run's state is no box: null)
     o.lo = r.state.x.rowwise().minCoeff();
     o.hi = r.state.x.rowwise().maxCoeff();
+    o.centre = r.state.x * p.model.mass / p.model.mass.sum();
   }
   o.kinetic = kinetic_energy(p.model, r.state);
   // A finite state whose kinetic energy overflows (--mass 1e306, --gravity 1e200) is out of a
@@ -121,6 +123,7 @@ json report_json(const RunConfig& c, const Plan& p, const RunResult& r, const Ou
   j["interrupted"] = r.interrupted;          // stopped by Ctrl-C or SIGTERM after `steps` steps
   j["cloth_min"] = {number(o.lo.x()), number(o.lo.y()), number(o.lo.z())};
   j["cloth_max"] = {number(o.hi.x()), number(o.hi.y()), number(o.hi.z())};
+  j["cloth_centre"] = {number(o.centre.x()), number(o.centre.y()), number(o.centre.z())};  // of mass
   j["max_penetration"] = number(r.state.max_penetration);  // behind a surface, within the search's reach
   j["max_penetration_reach"] = o.reach;                    // 2 eps: deeper is not seen
   j["max_penetration_past_eps"] = o.past_eps;              // true: masses may be deeper or through
