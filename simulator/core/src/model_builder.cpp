@@ -67,7 +67,7 @@ std::size_t ModelBuilder::add_cloth(const Eigen::Matrix3Xd& positions,
         s.rest_length >= 0.0 ? s.rest_length : (positions.col(s.a) - positions.col(s.b)).norm();
     ++si;
   }
-  for (auto t : triangles) triangles_.push_back(r.first_mass + t);
+  for (auto t : triangles) model_.triangles.push_back(r.first_mass + t);
   model_.cloths.push_back(r);
   return model_.cloths.size() - 1;
 }
@@ -90,15 +90,16 @@ Model ModelBuilder::build() {
     m.damping = o.damping;
     m.contact = ContactParams{o.epsilon, o.epsilon, o.k_rep, o.friction, o.static_friction};
   } else {  // a material: from the triangles' areas
-    if (n > 0 && triangles_.empty())
+    if (n > 0 && m.triangles.empty())
       throw std::invalid_argument("a cloth of material '" + find_option("material")->text(o) +
                                   "' needs its triangles (its masses and springs come from their areas); "
                                   "without them use material seed");
-    lump_masses(m.x0, triangles_, o.density, m.mass);
-    material_spring_scales(m, triangles_);
+    lump_masses(m.x0, m.triangles, o.density, m.mass);
+    material_spring_scales(m, m.triangles);
     m.spring_modulus[0] = o.stretch;
     m.spring_modulus[1] = o.bend;
     m.drag = o.drag;
+    m.air = air_drag_rate(o);
     m.strain_limit = o.strain_limit;
     if (m.strain_limit > 0.0 && std::count(m.pinned.begin(), m.pinned.end(), std::uint8_t{1}) > 0)
       long_range_attachments(m);
@@ -110,7 +111,6 @@ Model ModelBuilder::build() {
   model_ = Model{};
   model_.options = out.options;
   model_.x0.resize(3, 0);
-  triangles_.clear();
   return out;
 }
 

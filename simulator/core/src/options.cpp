@@ -218,6 +218,14 @@ std::string validate_options(const Options& options) {
   return {};
 }
 
+// The names of a group's options, comma-separated, in the table's order.
+std::string group_names(OptionGroup group) {
+  std::string names;
+  for (const OptionInfo& row : kTable)
+    if (row.group == group) (names.empty() ? names : names += ", ") += row.name;
+  return names;
+}
+
 Options resolve_options(Options o, bool seed_given) {
   if (o.material == Material::Auto) o.material = seed_given ? Material::Seed : Material::Cotton;
   const bool seed = is_seed(o);
@@ -226,12 +234,12 @@ Options resolve_options(Options o, bool seed_given) {
     // an option of the other model, set to something else than its default
     const OptionGroup other = seed ? OptionGroup::Material : OptionGroup::Seed;
     if (row.group != other || row.text(o) == row.text(defaults)) continue;
-    throw ModelMismatch(std::string(row.name), std::string(row.name) + " belongs to " +
-                                (seed ? "a material's cloth (the seed model takes mass, k_struct, k_bend, damping, "
-                                        "epsilon, k_rep)"
-                                      : "the seed model (material seed); material " +
-                                            std::string(Choices<Material>::label(o.material)) +
-                                            " takes density, stretch, bend, drag, thickness, strain_limit"));
+    throw ModelMismatch(std::string(row.name),
+                        std::string(row.name) + " belongs to " +
+                            (seed ? "a material's cloth (the seed model takes " + group_names(OptionGroup::Seed) + ")"
+                                  : "the seed model (material seed); material " +
+                                        std::string(Choices<Material>::label(o.material)) + " takes " +
+                                        group_names(OptionGroup::Material)));
   }
   if (const MaterialPreset* p = material_preset(o.material)) {
     // a friction given alone keeps the preset's ratio of static to kinetic friction

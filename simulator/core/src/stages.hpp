@@ -23,6 +23,13 @@ void implicit_euler(const Model& model, State& state, Workspace& ws, double h);
 void fast_mass_spring(const Model& model, State& state, Workspace& ws, double h);
 void xpbd(const Model& model, State& state, Workspace& ws, double h);
 
+/// The air's drag on the cloth's faces over h, before the integrator (air_drag.cpp): each face's
+/// normal velocity u becomes u / (1 + h air |u|), the exact decay of du/dt = -air |u| u, its
+/// change shared by the face's masses by their share of its mass.
+void air_drag(const Model& model, State& state, Workspace& ws, double h);
+/// The air drag's face lists (Workspace::face_start, face_list, face_dv).
+void make_air_scratch(const Model& model, Workspace& ws);
+
 /// Strain limiting after the integrator's update: no structural spring past model.strain_limit
 /// (a few passes), positions and velocities together (strain_limit.cpp).
 void limit_strain(const Model& model, State& state, Workspace& ws, double h);

@@ -30,6 +30,7 @@ Workspace make_workspace(const Model& model) {
     if (model.pinned[i]) ws.pinned_index.push_back(static_cast<std::uint32_t>(i));
   ws.pinned_x = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(ws.pinned_index.size()));
   ws.collision = detail::make_collision_scratch(model);
+  if (model.air > 0.0) detail::make_air_scratch(model, ws);
   const bool friction = model.contact.friction > 0.0 || model.contact.static_friction > 0.0;
   if (friction && model.colliders && model.options.integrator != Integrator::XPBD)
     ws.contact_f = Eigen::Matrix3Xd::Zero(3, n);
@@ -65,6 +66,7 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
     ws.integrator_scratch = make_integrator_scratch(model);
   bool checked = false, finite = true;
   save_pins(state, ws);
+  if (model.air > 0.0) air_drag(model, state, ws, h);
   switch (method) {
     case Integrator::SymplecticEuler: symplectic_euler(model, state, ws, h, checked, finite); break;
     case Integrator::ExplicitEuler: explicit_euler(model, state, ws, h); break;

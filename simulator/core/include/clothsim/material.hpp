@@ -5,6 +5,8 @@
 //   bend       k_b = 183 * bend * |e|^2 / (A_e L_b^2)  (the hinge |e| of the bend spring L_b:
 //              the discrete-shells hinge energy 3 bend |e|^2 / A_e theta^2 / 2 at a 60 degree fold)
 //   damping    drag per kilogram
+//   air        the faces' drag, 1/2 air_density C_D u^2 per area at normal speed u, C_D = 1.17
+//              (a flat plate across the flow; Hoerner, Fluid-Dynamic Drag, 1965, ch. 3)
 //   contact    the cloth keeps max(thickness, 5 % of its mean edge) from colliders; the force-based
 //              integrators' penalty stops the fastest fall of the scene with a margin of 2
 #pragma once
@@ -25,6 +27,12 @@ void lump_masses(const Eigen::Matrix3Xd& x0, std::span<const std::uint32_t> tria
 /// 183 |e|^2 / (A_e L_b^2). A spring on no triangle's edge (or across none) keeps 1 / L^2 times
 /// the mean area of the cloth's triangles, times the same factors.
 void material_spring_scales(Model& model, std::span<const std::uint32_t> triangles);
+
+/// The drag coefficient of a flat plate across the flow.
+inline constexpr double kPlateDrag = 1.17;
+
+/// Model::air for a material: air_density kPlateDrag / (2 density), 1/m.
+inline double air_drag_rate(const Options& o) { return o.air_density * kPlateDrag / (2.0 * o.density); }
 
 /// The contact of a material's cloth: its distance, band and penalty (ContactParams).
 ContactParams material_contact(const Model& model, const Options& options);

@@ -44,7 +44,6 @@ class ModelBuilder {
 
  private:
   Model model_;
-  std::vector<std::uint32_t> triangles_;  ///< (3 t) global mass indices of every cloth's triangles
 };
 
 }  // namespace clothsim

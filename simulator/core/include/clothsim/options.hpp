@@ -36,6 +36,8 @@
   REAL(thickness, kAuto, Positive, "m", Material, "", "Distance the cloth keeps from colliders")         \
   REAL(strain_limit, kAuto, NonNegative, "", Material, "",                                               \
        "Strain at which the cloth stops stretching (0: none)")                                          \
+  REAL(air_density, 1.2, NonNegative, "kg/m^3", Material, "",                                            \
+       "Density of the air, whose drag on the cloth's faces slows a falling sheet (0: none)")           \
   REAL(friction, kAuto, NonNegative, "", Any, "", "Kinetic friction coefficient against colliders")      \
   REAL(static_friction, kAuto, NonNegative, "", Any, "", "Static friction coefficient (at least friction)") \
   REAL(mass, 0.1, Positive, "kg", Seed, "mass", "Mass per point")                                        \

@@ -72,6 +72,7 @@ struct Model {
   std::vector<std::uint32_t> spring_a, spring_b;  ///< (s) global mass indices
   Eigen::VectorXd rest_length0;          ///< (s) m
   std::vector<std::uint8_t> spring_kind; ///< (s) 0 structural, 1 bend: b2o::SpringKind
+  std::vector<std::uint32_t> triangles;  ///< (3 t) the cloths' faces, global mass indices
   /// (s) a spring's share of its kind's modulus: k = spring_modulus[kind] * scale. The seed
   /// model: 1 (k_struct, k_bend); a material: from the edge's rest length and adjacent areas.
   std::vector<float> spring_scale;
@@ -81,6 +82,9 @@ struct Model {
   /// the same for every point; a material's drag is per kilogram.
   double damping = 0.0;                  ///< N s/m
   double drag = 0.0;                     ///< 1/s
+  /// 1/m, the air's drag on a face per its normal speed: a face's normal velocity u decays as
+  /// du/dt = -air |u| u (air_density C_D / (2 density); 0: none, as in the seed model).
+  double air = 0.0;
   /// The strain no structural spring goes past after a step (0: none): the cloth's yarns are
   /// straight there (a material's strain_limit; the seed model has none).
   double strain_limit = 0.0;

@@ -64,6 +64,11 @@ struct Workspace {
   std::vector<std::uint8_t> moved;           ///< (n) limit_strain's marks: masses its last pass moved
   std::vector<std::uint32_t> moved_list;     ///< those masses
   std::vector<std::uint8_t> listed;          ///< (s) limit_strain's marks: springs in its next pass
+  /// The air drag's memory (empty without it, Model::air = 0): each face's change of normal
+  /// velocity over the step, and each mass's faces (CSR: face_list[face_start[i] ..
+  /// face_start[i+1])), so that every mass sums its faces in one order for any thread count.
+  Eigen::Matrix3Xd face_dv;
+  std::vector<std::uint32_t> face_start, face_list;
   Drag drag;                                 ///< the drag of the state being stepped
   double last_penetration = 0.0;             ///< m, deepest point behind a collider in the last force stage
   std::uint32_t last_contacts = 0;           ///< points inside a collider band in the last force stage
