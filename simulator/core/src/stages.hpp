@@ -32,7 +32,7 @@ void make_air_scratch(const Model& model, Workspace& ws);
 
 /// Strain limiting after the integrator's update: no structural spring past model.strain_limit
 /// (a few passes), positions and velocities together (strain_limit.cpp).
-void limit_strain(const Model& model, State& state, Workspace& ws, double h);
+void limit_strain(const Model& model, State& state, Workspace& ws);
 
 /// a = f / m, row-wise (pinned masses have inv_mass 0).
 inline auto accel(const Model& model, const Eigen::Matrix3Xd& f) {

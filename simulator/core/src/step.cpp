@@ -39,6 +39,12 @@ Workspace make_workspace(const Model& model) {
     ws.moved.assign(model.mass_count(), 0);
     ws.moved_list.reserve(model.mass_count());
     ws.listed.assign(model.spring_count(), 0);
+    if (model.colliders) {
+      ws.held.assign(model.mass_count(), 0);
+      ws.anchor.assign(model.mass_count(), 0);
+      ws.reach.assign(model.mass_count(), 0.0);
+      ws.frontier.reserve(2 * model.spring_count() + model.mass_count());
+    }
   }
   return ws;
 }
@@ -66,7 +72,11 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
     ws.integrator_scratch = make_integrator_scratch(model);
   bool checked = false, finite = true;
   save_pins(state, ws);
-  if (model.air > 0.0) air_drag(model, state, ws, h);
+  // The slow stages run once per dt: the air's drag at its first substep (over dt: exact for
+  // any step), strain limiting after its last.
+  const auto per = static_cast<std::uint64_t>(std::max(ws.substeps, 1));
+  const bool first = state.steps % per == 0, last = (state.steps + 1) % per == 0;
+  if (model.air > 0.0 && first) air_drag(model, state, ws, model.options.dt);
   switch (method) {
     case Integrator::SymplecticEuler: symplectic_euler(model, state, ws, h, checked, finite); break;
     case Integrator::ExplicitEuler: explicit_euler(model, state, ws, h); break;
@@ -79,7 +89,7 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
     case Integrator::Auto: break;  // (resolved when the Model is built)
   }
   if (method != Integrator::XPBD) apply_friction(model, state, ws, h);  // (XPBD's is in its contact)
-  limit_strain(model, state, ws, h);
+  if (last) limit_strain(model, state, ws);
   restore_pins(state, ws);
   state.t += h;
   ++state.steps;

@@ -18,117 +18,125 @@ namespace clothsim::detail {
 
 namespace {
 
-// Greedy edge colouring of the springs, in spring order; a spring that finds none of 63
-// colours free goes to a last colour that the pass takes on one thread.
-void colour_springs(const Model& m, IntegratorScratch& sc) {
+using Link = IntegratorScratch::Link;
+using Colouring = IntegratorScratch::Colouring;
+
+// Greedy edge colouring of the springs of one kind, in spring order, packed by colour; a spring
+// that finds none of 63 colours free goes to a last colour that the passes take on one thread.
+Colouring colour_springs(const Model& m, std::uint8_t kind) {
   constexpr int kSerial = 63;
   std::vector<std::uint64_t> used(m.mass_count(), 0);
-  std::vector<std::uint8_t> colour(m.spring_count());
+  std::vector<std::uint8_t> colour(m.spring_count(), kSerial + 1);
   std::vector<std::uint32_t> count(kSerial + 1, 0);
   for (std::size_t s = 0; s < m.spring_count(); ++s) {
-    if (m.spring_kind[s] != 0) continue;  // (the bend springs are forces)
-    const std::uint64_t taken = used[m.spring_a[s]] | used[m.spring_b[s]];
+    const std::uint32_t a = m.spring_a[s], b = m.spring_b[s];
+    if (m.spring_kind[s] != kind || !(m.spring_stiffness(s) > 0.0) || m.inv_mass[a] + m.inv_mass[b] == 0.0) continue;
+    const std::uint64_t taken = used[a] | used[b];
     const int c = ~taken & ((std::uint64_t{1} << kSerial) - 1) ? __builtin_ctzll(~taken) : kSerial;
     colour[s] = static_cast<std::uint8_t>(c);
-    if (c < kSerial) used[m.spring_a[s]] |= std::uint64_t{1} << c, used[m.spring_b[s]] |= std::uint64_t{1} << c;
+    if (c < kSerial) used[a] |= std::uint64_t{1} << c, used[b] |= std::uint64_t{1} << c;
     ++count[static_cast<std::size_t>(c)];
   }
-  sc.colour_start.assign(kSerial + 2, 0);
-  for (int c = 0; c <= kSerial; ++c) sc.colour_start[static_cast<std::size_t>(c) + 1] = sc.colour_start[static_cast<std::size_t>(c)] + count[static_cast<std::size_t>(c)];
-  sc.colour_springs.resize(sc.colour_start.back());
-  std::vector<std::uint32_t> fill(sc.colour_start.begin(), sc.colour_start.end() - 1);
+  Colouring out;
+  out.start.assign(kSerial + 2, 0);
+  for (std::size_t c = 0; c <= kSerial; ++c) out.start[c + 1] = out.start[c] + count[c];
+  out.links.resize(out.start.back());
+  std::vector<std::uint32_t> fill(out.start.begin(), out.start.end() - 1);
   for (std::size_t s = 0; s < m.spring_count(); ++s)
-    if (m.spring_kind[s] == 0) sc.colour_springs[fill[colour[s]]++] = static_cast<std::uint32_t>(s);
+    if (colour[s] <= kSerial) {
+      const double rest = m.rest_length0[static_cast<Eigen::Index>(s)];
+      out.links[fill[colour[s]]++] = Link{m.spring_a[s], m.spring_b[s], rest, m.spring_stiffness(s)};
+    }
+  return out;
 }
 
-// One spring as a compliant distance constraint (lambda from 0): alpha~ = 1 / (k h^2).
-inline void project_spring(const Model& m, std::uint32_t s, double inv_h2, double* x) {
-  const std::uint32_t a = m.spring_a[s], b = m.spring_b[s];
-  const double wa = m.inv_mass[a], wb = m.inv_mass[b], k = m.spring_stiffness(s);
-  if (!(k > 0.0) || wa + wb == 0.0) return;
-  double* pa = x + 3 * std::size_t{a};
-  double* pb = x + 3 * std::size_t{b};
+// Runs one(link) over every link, colour by colour, each colour split between threads.
+template <class One>
+void by_colour(const Colouring& c, const Workspace& ws, One one) {
+  const std::size_t colours = c.start.size() - 1;
+  for (std::size_t k = 0; k < colours; ++k) {
+    const auto begin = static_cast<std::int64_t>(c.start[k]), end = static_cast<std::int64_t>(c.start[k + 1]);
+    const bool serial = k + 1 == colours;  // (the last colour may share masses)
+    [[maybe_unused]] const int nt = serial ? 1 : team(ws, static_cast<std::size_t>(end - begin));
+#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
+    for (std::int64_t j = begin; j < end; ++j) one(c.links[static_cast<std::size_t>(j)]);
+  }
+}
+
+// One structural spring as a compliant distance constraint (lambda from 0): alpha~ = 1/(k h^2).
+inline void project(const Link& l, const double* w, double inv_h2, double* x) {
+  double* pa = x + 3 * std::size_t{l.a};
+  double* pb = x + 3 * std::size_t{l.b};
+  const double wa = w[l.a], wb = w[l.b];
   const double dx = pa[0] - pb[0], dy = pa[1] - pb[1], dz = pa[2] - pb[2];
   const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
   if (len == 0.0) return;  // no direction: no correction (as the force stage)
-  const double c = len - m.rest_length0[static_cast<Eigen::Index>(s)];
-  const double scale = -c / (wa + wb + inv_h2 / k) / len;
+  const double scale = (l.rest - len) / (wa + wb + inv_h2 / l.k) / len;
   pa[0] += wa * scale * dx, pa[1] += wa * scale * dy, pa[2] += wa * scale * dz;
   pb[0] -= wb * scale * dx, pb[1] -= wb * scale * dy, pb[2] -= wb * scale * dz;
 }
 
-// The bend springs' pull on the velocities (report eq. 4), spring by spring.
-void bend_forces(const Model& m, State& s, double h) {
-  const double* x = s.x.data();
-  double* v = s.v.data();
-  for (std::size_t k = 0; k < m.spring_count(); ++k) {
-    if (m.spring_kind[k] == 0) continue;
-    const std::size_t a = m.spring_a[k], b = m.spring_b[k];
-    const double dx = x[3 * a] - x[3 * b], dy = x[3 * a + 1] - x[3 * b + 1], dz = x[3 * a + 2] - x[3 * b + 2];
-    const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-    if (len == 0.0) continue;
-    const double c = h * m.spring_stiffness(k) * (m.rest_length0[static_cast<Eigen::Index>(k)] - len) / len;
-    const double ca = c * m.inv_mass[static_cast<Eigen::Index>(a)], cb = c * m.inv_mass[static_cast<Eigen::Index>(b)];
-    v[3 * a] += ca * dx, v[3 * a + 1] += ca * dy, v[3 * a + 2] += ca * dz;
-    v[3 * b] -= cb * dx, v[3 * b + 1] -= cb * dy, v[3 * b + 2] -= cb * dz;
-  }
+// One bend spring's pull on the velocities over h (report eq. 4).
+inline void bend(const Link& l, const double* w, double h, const double* x, double* v) {
+  const std::size_t a = 3 * std::size_t{l.a}, b = 3 * std::size_t{l.b};
+  const double dx = x[a] - x[b], dy = x[a + 1] - x[b + 1], dz = x[a + 2] - x[b + 2];
+  const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
+  if (len == 0.0) return;
+  const double c = h * l.k * (l.rest - len) / len, ca = c * w[l.a], cb = c * w[l.b];
+  v[a] += ca * dx, v[a + 1] += ca * dy, v[a + 2] += ca * dz;
+  v[b] -= cb * dx, v[b + 1] -= cb * dy, v[b + 2] -= cb * dz;
 }
 
-// The velocities: gravity, the bend springs and the user's pull explicitly, the damping
-// implicitly (v <- (v + h a) / (1 + h gamma / m): stable for any step).
-void take_forces(const Model& m, State& s, const Workspace& ws, double h) {
-  bend_forces(m, s, h);
+// The user's pull on the dragged mass, over h.
+void pull(const Model& m, State& s, const Workspace& ws, double h) {
+  const Drag& d = ws.drag;
+  if (d.mass < 0 || static_cast<std::size_t>(d.mass) >= m.mass_count() || !(d.k > 0.0) || m.inv_mass[d.mass] == 0.0)
+    return;
+  const Eigen::Vector3d to = d.target - s.x.col(d.mass);
+  const double len = to.norm();
+  s.v.col(d.mass) += h * m.inv_mass[d.mass] * d.k * (len > d.reach ? (d.reach / len) * to : to);
+}
+
+// The velocities take the bend springs, the pull, gravity and the damping (implicitly:
+// v <- (v + h g) / (1 + h gamma / m), stable for any step); the positions are predicted.
+void predict(const Model& m, State& s, IntegratorScratch& sc, const Workspace& ws, double h) {
+  const double* w = m.inv_mass.data();
+  by_colour(sc.bend, ws, [&](const Link& l) { bend(l, w, h, s.x.data(), s.v.data()); });
+  pull(m, s, ws, h);
+  const bool contact = m.colliders != nullptr;
   const auto n = static_cast<std::int64_t>(m.mass_count());
   [[maybe_unused]] const int nt = team(ws, m.mass_count());
 #pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
   for (std::int64_t i = 0; i < n; ++i) {
-    const double im = m.inv_mass[i];
-    if (im == 0.0) continue;
-    const double rate = m.damping_of(static_cast<std::size_t>(i)) * im;
-    s.v.col(i) = (s.v.col(i) + h * m.gravity) / (1.0 + h * rate);
-  }
-  const Drag& d = ws.drag;
-  if (d.mass >= 0 && static_cast<std::size_t>(d.mass) < m.mass_count() && d.k > 0.0 && m.inv_mass[d.mass] > 0.0) {
-    const Eigen::Vector3d pull = d.target - s.x.col(d.mass);
-    const double len = pull.norm();
-    s.v.col(d.mass) += h * m.inv_mass[d.mass] * d.k * (len > d.reach ? (d.reach / len) * pull : pull);
+    if (w[i] != 0.0) s.v.col(i) = (s.v.col(i) + h * m.gravity) / (1.0 + h * m.damping_of(static_cast<std::size_t>(i)) * w[i]);
+    sc.xs.col(i) = s.x.col(i);
+    s.x.col(i) += h * s.v.col(i);
+    if (contact) sc.f2.col(i).setZero();
   }
 }
 
-// The springs, colour by colour.
-void project_springs(const Model& m, const IntegratorScratch& sc, const Workspace& ws, double h, double* x) {
-  const double inv_h2 = 1.0 / (h * h);
-  const std::size_t colours = sc.colour_start.size() - 1;
-  for (std::size_t c = 0; c < colours; ++c) {
-    const auto begin = static_cast<std::int64_t>(sc.colour_start[c]), end = static_cast<std::int64_t>(sc.colour_start[c + 1]);
-    const bool serial = c + 1 == colours;  // (the last colour may share masses)
-    [[maybe_unused]] const int nt = serial ? 1 : team(ws, static_cast<std::size_t>(end - begin));
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-    for (std::int64_t j = begin; j < end; ++j) project_spring(m, sc.colour_springs[static_cast<std::size_t>(j)], inv_h2, x);
-  }
-}
-
-// The colliders' pushes, with Coulomb friction on the step's tangential move: it is undone
-// when shorter than static_friction times the push, else shortened by friction times it.
-void push_out(const Model& m, State& s, IntegratorScratch& sc, Workspace& ws) {
-  if (!m.colliders) return;
-  sc.f2.setZero();
-  add_contact_push(m, s.x, sc.f2, ws);
+// The colliders' pushes, with Coulomb friction on the step's tangential move (it is undone
+// when shorter than static_friction times the push, else shortened by friction times it);
+// then the velocities are the positions' change.
+void push_out(const Model& m, State& s, IntegratorScratch& sc, Workspace& ws, double h) {
+  const bool contact = m.colliders != nullptr;
+  if (contact) add_contact_push(m, s.x, sc.f2, ws);
   const double mu_s = m.contact.static_friction, mu_k = m.contact.friction;
   const auto n = static_cast<std::int64_t>(m.mass_count());
   [[maybe_unused]] const int nt = team(ws, m.mass_count());
 #pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
   for (std::int64_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d push = sc.f2.col(i);
-    const double depth = push.norm();
-    if (!(depth > 0.0) || m.inv_mass[i] == 0.0) continue;
-    s.x.col(i) += push;
-    const Eigen::Vector3d nrm = push / depth;
-    const Eigen::Vector3d move = s.x.col(i) - sc.xs.col(i);
-    const Eigen::Vector3d tangent = move - nrm.dot(move) * nrm;
-    const double slide = tangent.norm();
-    if (slide <= mu_s * depth) s.x.col(i) -= tangent;
-    else s.x.col(i) -= std::min(1.0, mu_k * depth / slide) * tangent;
+    const double depth = contact ? sc.f2.col(i).norm() : 0.0;
+    if (!ws.held.empty()) ws.held[static_cast<std::size_t>(i)] = depth > 0.0;
+    if (depth > 0.0 && m.inv_mass[i] != 0.0) {
+      const Eigen::Vector3d nrm = sc.f2.col(i) / depth;
+      s.x.col(i) += sc.f2.col(i);
+      const Eigen::Vector3d move = s.x.col(i) - sc.xs.col(i);
+      const Eigen::Vector3d tangent = move - nrm.dot(move) * nrm;
+      const double slide = tangent.norm();
+      s.x.col(i) -= slide <= mu_s * depth ? 1.0 * tangent : std::min(1.0, mu_k * depth / slide) * tangent;
+    }
+    s.v.col(i) = (s.x.col(i) - sc.xs.col(i)) / h;
   }
 }
 
@@ -136,13 +144,13 @@ void push_out(const Model& m, State& s, IntegratorScratch& sc, Workspace& ws) {
 
 void xpbd(const Model& m, State& s, Workspace& ws, double h) {
   IntegratorScratch& sc = *ws.integrator_scratch;
-  if (sc.colour_start.empty()) colour_springs(m, sc);  // (once per Workspace)
-  take_forces(m, s, ws, h);
-  sc.xs = s.x;  // x(t)
-  s.x.noalias() += h * s.v;
-  project_springs(m, sc, ws, h, s.x.data());
-  push_out(m, s, sc, ws);
-  s.v = (s.x - sc.xs) / h;
+  if (sc.structural.start.empty()) sc.structural = colour_springs(m, 0), sc.bend = colour_springs(m, 1);
+  predict(m, s, sc, ws, h);
+  const double inv_h2 = 1.0 / (h * h);
+  const double* w = m.inv_mass.data();
+  double* x = s.x.data();
+  by_colour(sc.structural, ws, [&](const Link& l) { project(l, w, inv_h2, x); });
+  push_out(m, s, sc, ws, h);
 }
 
 }  // namespace clothsim::detail

@@ -64,6 +64,13 @@ struct Workspace {
   std::vector<std::uint8_t> moved;           ///< (n) limit_strain's marks: masses its last pass moved
   std::vector<std::uint32_t> moved_list;     ///< those masses
   std::vector<std::uint8_t> listed;          ///< (s) limit_strain's marks: springs in its next pass
+  /// The masses the colliders held in the last step (n; with a strain limit and colliders), and
+  /// limit_strain's attachments to them: each mass's nearest held mass along the cloth's
+  /// structural springs (kNoMass: none) and that path's rest length, m; `frontier` its heap.
+  std::vector<std::uint8_t> held;
+  std::vector<std::uint32_t> anchor;
+  std::vector<double> reach;
+  std::vector<std::pair<double, std::uint32_t>> frontier;
   /// The air drag's memory (empty without it, Model::air = 0): each face's change of normal
   /// velocity over the step, and each mass's faces (CSR: face_list[face_start[i] ..
   /// face_start[i+1])), so that every mass sums its faces in one order for any thread count.
