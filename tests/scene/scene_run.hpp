@@ -2,6 +2,7 @@
 #pragma once
 
 #include <clothsim/scene.hpp>
+#include <clothsim/stability.hpp>
 #include <clothsim/step.hpp>
 
 #include <blender2ogl/scene_types.h>
@@ -19,6 +20,20 @@ inline const b2o::Object& find_object(const b2o::Scene& s, const char* name) {
   for (std::uint32_t o = 0; o < s.object_count; ++o)
     if (std::strcmp(s.objects[o].name, name) == 0) return s.objects[o];
   throw std::runtime_error(std::string("scene has no object ") + name);
+}
+
+/// A Workspace with the substeps clothsim plans for the model (the stability guard's).
+inline Workspace planned_workspace(const Model& m) {
+  Workspace ws = make_workspace(m);
+  ws.substeps = plan_substeps(m.options.dt, analyse_stability(m).dt_stable, SubstepPolicy{}).substeps;
+  return ws;
+}
+
+/// One step of dt: the Workspace's substeps; false when a state was not finite.
+inline bool step_dt(const Model& m, State& s, Workspace& ws) {
+  for (int q = 0; q < ws.substeps; ++q)
+    if (!step(m, s, ws).finite) return false;
+  return true;
 }
 
 inline Eigen::Vector3d vertex(const b2o::Scene& s, std::uint32_t v) {

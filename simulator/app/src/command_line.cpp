@@ -223,12 +223,17 @@ std::string apply_options(RunConfig& c, const Flags& f, const b2o::Scene& scene,
 }
 
 // The material and integrator decided (resolve_options()): an option of the seed model, baked
-// or given, selects it; a material given here sets the scene's options of the other model back
-// to their defaults. Empty, or the error naming the option that belongs to the other model.
+// or given, selects it; a material given here, or an option of the seed model given here (the
+// 2016 program's flags on a scene baked with a material), sets the scene's options of the
+// other model back to their defaults. Empty, or the error naming the option that belongs to
+// the other model.
 std::string resolve_model(RunConfig& c, const BakedParams& baked, const std::string& baked_note) {
-  bool seed_given = baked.seed_given;
-  for (const std::string& name : c.options_given) seed_given |= find_option(name)->group == OptionGroup::Seed;
-  if (c.given("material") && c.options.material != Material::Auto) {
+  bool seed_on_line = false;
+  for (const std::string& name : c.options_given) seed_on_line |= find_option(name)->group == OptionGroup::Seed;
+  bool seed_given = baked.seed_given || seed_on_line;
+  const bool chosen = c.given("material") && c.options.material != Material::Auto;
+  if (chosen || (seed_on_line && !c.given("material"))) {
+    if (!chosen) c.options.material = Material::Seed;
     const OptionGroup other = c.options.material == Material::Seed ? OptionGroup::Material : OptionGroup::Seed;
     const Options defaults{};
     for (const OptionInfo& o : option_table())
