@@ -646,4 +646,22 @@ TEST(Cli, ReportCountsThePinnedMasses) {
   EXPECT_EQ(j["scene"], "hanging");
   EXPECT_EQ(j["pinned_masses"], 2);
 }
+
+// Friction on a scene without colliders (the hanging cloth): refused, naming the option and
+// the scene, exit 2, nothing written.
+TEST(Cli, FrictionWithoutCollidersIsRefused) {
+  const fs::path d = fresh_dir("friction_alone");
+  const std::string cmd = std::string(CLOTHSIM_HANGING_EXE) + " --headless --quiet --steps 2 --friction 0.3 --report '" +
+                          (d / "r.json").string() + "' 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string out;
+  char buf[256];
+  while (std::fgets(buf, sizeof buf, p)) out += buf;
+  const int status = pclose(p);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2) << out;
+  EXPECT_NE(out.find("--friction: scene 'hanging' has no colliders"), std::string::npos) << out;
+  EXPECT_TRUE(fs::is_empty(d));
+}
 #endif

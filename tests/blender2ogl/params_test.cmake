@@ -50,6 +50,19 @@ expect("k_rep=0.001e309 k_struct=1.7976931348623157e308 gravity_x=2.225073858507
 expect("dt=0.002 dt=0.001" "'dt=0.001': dt is given twice")
 expect("gravity_y=-9.81 dt=2e-3 mass=.5 k_bend=0" "${passes}")
 expect("dt=\"0 1\"" "expected KEY=VALUE")
+# entries that are good alone but not together
+expect("mass=0.01 density=0.1" "density belongs to a material's cloth \\(the seed model takes mass, k_struct")
+expect("friction=0.3 static_friction=0.1" "static_friction must be at least friction \\(got 0.1 < 0.3\\)")
+# friction on a scene whose objects are all cloth: nothing to rub against
+file(WRITE "${WORK}/alone.obj" "o Sheet\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+file(WRITE "${WORK}/case.cmake"
+     "set_property(GLOBAL PROPERTY BLENDER2OGL_PARAMS_CHECK \"${CHECK}\")\ninclude(\"${MODULE}\")\n"
+     "blender2ogl_add_scene(alone OBJ \"${WORK}/alone.obj\" CLOTH Sheet PARAMS friction=0.3)\n")
+execute_process(COMMAND ${CMAKE_COMMAND} -P "${WORK}/case.cmake" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+string(REGEX REPLACE "[ \t\r\n]+" " " text "${out}${err}")
+if(rc EQUAL 0 OR NOT text MATCHES "blender2ogl_add_scene\\(alone\\): bad PARAMS: 'friction=0.3': the scene has no colliders")
+  message(FATAL_ERROR "friction without colliders: expected the configure to stop (${rc}):\n${out}${err}")
+endif()
 # without a checker the converter takes any key (it knows none)
 expect_with("" "camera=5 look=far" "${passes}")
 # names the converter would refuse or that would clash: stopped at configure time

@@ -32,6 +32,12 @@ TEST(SimBadOptions, RefusedWithExitTwoAndOneLine) {
       {{"--seconds", "-1"}, "seconds"},   {{"--steps", "0"}, "steps"},
       {{"--steps", "-3"}, "steps"},       {{"--export-every", "0"}, "export-every"},
       {{"--no-such-option"}, "no-such-option"},
+      {{"--density", "0"}, "density"},    {{"--density", "-0.2"}, "density"},
+      {{"--stretch", "0"}, "stretch"},    {{"--stretch", "-5"}, "stretch"},
+      {{"--bend", "-1"}, "bend"},         {{"--material", "wool"}, "cotton, silk, denim, leather, rubber"},
+      {{"--friction", "-0.1"}, "friction"}, {{"--static-friction", "-1"}, "static-friction"},
+      {{"--friction", "0.5", "--static-friction", "0.2"}, "static_friction"},
+      {{"--mass", "0.01", "--density", "0.1"}, "--density"},
       {{"--steps", "10", "--seconds", "1"}, "seconds"},
   };
   for (const Bad& b : bad) {

@@ -3,6 +3,7 @@
 #include "run_config.hpp"
 
 #include <clothsim/output_file.hpp>
+#include <clothsim/scene.hpp>
 
 #include <blender2ogl/scene_types.h>
 
@@ -90,10 +91,22 @@ std::string check_outputs(const RunConfig& c, const b2o::Scene& scene) {
   return {};
 }
 
+// Friction, given or baked, on a scene without colliders: it would act on nothing.
+std::string check_friction(const RunConfig& c, const b2o::Scene& scene) {
+  if (has_colliders(scene)) return {};
+  const std::string none = "scene '" + std::string(scene.name) + "' has no colliders (every object is cloth): friction acts on nothing";
+  for (const char* key : {"friction", "static_friction"})
+    if (c.given(key)) return std::string(find_option(key)->flag()) + ": " + none;
+  if (const std::string key = read_scene_params(scene).friction_key; !key.empty())
+    return "PARAMS " + key + " baked, but " + none;
+  return {};
+}
+
 }  // namespace
 
 std::string check_config(const RunConfig& c, const b2o::Scene& scene) {
   if (std::string why = check_combinations(c); !why.empty()) return why;
+  if (std::string why = check_friction(c, scene); !why.empty()) return why;
   if (std::string why = check_outputs(c, scene); !why.empty()) return why;
   if (!c.quiet)
     for (const auto& k : c.unknown_params)

@@ -2,11 +2,14 @@
 // blender2ogl_add_scene() stops the configure on a key or value the simulator would refuse.
 // It needs only options.cpp: the build compiles it at configure time, before anything else.
 //
-//   clothsim_params KEY=VALUE...   exit 0 when every entry is good, else 1 and a line for each
+//   clothsim_params [--colliders N] KEY=VALUE...
+//       exit 0 when every entry is good and they go together (one model's options, friction
+//       only with colliders when N is given), else 1 and a line for each problem
 //   clothsim_params --list         the table: name, default, unit, what values it takes
 #include <clothsim/options.hpp>
 
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <string_view>
 
@@ -26,6 +29,29 @@ void list() {
   }
 }
 
+// The entries together (each one good): options of one model, static friction at least the
+// kinetic one, friction keys only where there are colliders. Empty, or why.
+std::string check_together(int first, int argc, char** argv, long colliders) {
+  clothsim::Options o;
+  bool seed = false;
+  for (int i = first; i < argc; ++i) {
+    const std::string_view entry = argv[i];
+    const std::string_view key = entry.substr(0, entry.find('='));
+    const clothsim::OptionInfo* row = clothsim::find_option(key);
+    row->set(o, entry.substr(key.size() + 1));
+    seed |= row->group == clothsim::OptionGroup::Seed;
+    if (colliders == 0 && (key == "friction" || key == "static_friction"))
+      return std::string(1, '\'').append(entry).append("': the scene has no colliders (every object is cloth): friction acts on nothing");
+  }
+  if (std::string why = clothsim::validate_options(o); !why.empty()) return why;
+  try {
+    clothsim::resolve_options(o, seed);
+  } catch (const clothsim::ModelMismatch& e) {
+    return e.what();
+  }
+  return {};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -33,8 +59,19 @@ int main(int argc, char** argv) {
     list();
     return 0;
   }
+  int first = 1;
+  long colliders = -1;  // (unknown)
+  if (argc >= 3 && std::string_view(argv[1]) == "--colliders") {
+    char* end = nullptr;
+    colliders = std::strtol(argv[2], &end, 10);
+    if (*argv[2] == '\0' || *end != '\0' || colliders < 0) {
+      std::fprintf(stderr, "  --colliders takes a count, got '%s'\n", argv[2]);
+      return 1;
+    }
+    first = 3;
+  }
   int bad = 0;
-  for (int i = 1; i < argc; ++i) {
+  for (int i = first; i < argc; ++i) {
     const std::string_view entry = argv[i];
     const auto eq = entry.find('=');
     const std::string why = eq == std::string_view::npos
@@ -44,7 +81,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "  '%s': %s\n", argv[i], why.c_str());
     ++bad;
   }
-  if (bad == 0) return 0;
+  if (bad == 0) {
+    const std::string why = check_together(first, argc, argv, colliders);
+    if (why.empty()) return 0;
+    std::fprintf(stderr, "  %s\n", why.c_str());
+    return 1;
+  }
   std::string keys;
   for (const clothsim::OptionInfo& o : clothsim::option_table()) (keys.empty() ? keys : keys += ", ") += o.name;
   std::fprintf(stderr, "Valid keys (underscores, as the simulator reads them): %s\n", keys.c_str());

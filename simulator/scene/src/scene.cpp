@@ -19,7 +19,8 @@ namespace {
 }  // namespace
 
 BakedParams read_scene_params(const b2o::Scene& scene, Options base) {
-  BakedParams out{base, {}, {}};
+  BakedParams out;
+  out.options = base;
   for (std::uint32_t i = 0; i < scene.param_count; ++i) {
     const std::string key = scene.params[i].key ? scene.params[i].key : "";
     const OptionInfo* option = find_option(key);
@@ -29,13 +30,23 @@ BakedParams read_scene_params(const b2o::Scene& scene, Options base) {
       out.refused.push_back({key, std::move(why)});
     else if (option->group == OptionGroup::Seed)
       out.seed_given = true;
+    else if (key == "friction" || key == "static_friction")
+      out.friction_key = key;
   }
   return out;
+}
+
+bool has_colliders(const b2o::Scene& scene) {
+  for (std::uint32_t o = 0; o < scene.object_count; ++o)
+    if (scene.objects[o].cloth == b2o::kNone && scene.objects[o].index_count > 0) return true;
+  return false;
 }
 
 Options scene_options(const b2o::Scene& scene, Options base) {
   BakedParams p = read_scene_params(scene, base);
   if (!p.refused.empty()) fail(scene, "PARAMS " + p.refused[0].key + " " + p.refused[0].why);
+  if (!p.friction_key.empty() && !has_colliders(scene))
+    fail(scene, "PARAMS " + p.friction_key + ": the scene has no colliders, friction acts on nothing");
   try {
     return resolve_options(p.options, p.seed_given);
   } catch (const std::invalid_argument& e) {
