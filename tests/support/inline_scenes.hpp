@@ -41,9 +41,9 @@ inline Model grid_model(const Options& o, int w, int h, std::vector<std::uint32_
 
 /// A 1 m square cloth of n x n points in the XZ plane at y = 0, triangulated (two triangles a
 /// quad), with structural springs on the triangles' edges and bend springs across the quads'
-/// shared edges; pinned at its two corners at z = 0 (its masses and spring constants come
-/// from the areas: a material's cloth).
-inline Model square_cloth(const Options& o, int n) {
+/// shared edges; pinned at its two corners at z = 0 unless `pinned` is false (its masses and
+/// spring constants come from the areas: a material's cloth).
+inline Model square_cloth(const Options& o, int n, bool pinned = true) {
   Eigen::Matrix3Xd x(3, n * n);
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) x.col(j * n + i) = Eigen::Vector3d(double(i) / (n - 1), 0.0, double(j) / (n - 1));
@@ -63,7 +63,7 @@ inline Model square_cloth(const Options& o, int n) {
       if (j + 1 < n) s.push_back({id(i, j), id(i, j + 1), 0});
     }
   ModelBuilder b(o, "square");
-  b.add_cloth(x, s, std::vector<std::uint32_t>{id(0, 0), id(n - 1, 0)}, t);
+  b.add_cloth(x, s, pinned ? std::vector<std::uint32_t>{id(0, 0), id(n - 1, 0)} : std::vector<std::uint32_t>{}, t);
   return b.build();
 }
 

@@ -72,11 +72,13 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
     ws.integrator_scratch = make_integrator_scratch(model);
   bool checked = false, finite = true;
   save_pins(state, ws);
-  // The slow stages run once per dt: the air's drag at its first substep (over dt: exact for
-  // any step), strain limiting after its last.
+  // The slow stages run once per dt: the air's drag over half of dt before its first substep
+  // and half after its last (exact for any step; the halves keep the split second order),
+  // strain limiting after its last.
   const auto per = static_cast<std::uint64_t>(std::max(ws.substeps, 1));
   const bool first = state.steps % per == 0, last = (state.steps + 1) % per == 0;
-  if (model.air > 0.0 && first) air_drag(model, state, ws, model.options.dt);
+  const bool air = model.air > 0.0;
+  if (air && first) air_drag(model, state, ws, 0.5 * model.options.dt);
   switch (method) {
     case Integrator::SymplecticEuler: symplectic_euler(model, state, ws, h, checked, finite); break;
     case Integrator::ExplicitEuler: explicit_euler(model, state, ws, h); break;
@@ -89,6 +91,7 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
     case Integrator::Auto: break;  // (resolved when the Model is built)
   }
   if (method != Integrator::XPBD) apply_friction(model, state, ws, h);  // (XPBD's is in its contact)
+  if (air && last) air_drag(model, state, ws, 0.5 * model.options.dt);
   if (last) limit_strain(model, state, ws);
   restore_pins(state, ws);
   state.t += h;
