@@ -33,6 +33,9 @@ void make_air_scratch(const Model& model, Workspace& ws);
 /// Strain limiting after the integrator's update: no structural spring past model.strain_limit
 /// (a few passes), positions and velocities together (strain_limit.cpp).
 void limit_strain(const Model& model, State& state, Workspace& ws);
+/// Within a step: each mass back within reach of the mass the colliders held that it hangs
+/// from (the last limit_strain's attachments), positions only (strain_limit.cpp).
+void keep_in_reach(const Model& model, Eigen::Matrix3Xd& x, const Workspace& ws);
 
 /// a = f / m, row-wise (pinned masses have inv_mass 0).
 inline auto accel(const Model& model, const Eigen::Matrix3Xd& f) {

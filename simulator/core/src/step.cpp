@@ -41,7 +41,7 @@ Workspace make_workspace(const Model& model) {
     ws.listed.assign(model.spring_count(), 0);
     if (model.colliders) {
       ws.held.assign(model.mass_count(), 0);
-      ws.anchor.assign(model.mass_count(), 0);
+      ws.anchor.assign(model.mass_count(), ~std::uint32_t{0});  // (none until the first step's end)
       ws.reach.assign(model.mass_count(), 0.0);
       ws.frontier.reserve(2 * model.spring_count() + model.mass_count());
     }

@@ -16,6 +16,8 @@ namespace clothsim::detail {
 
 namespace {
 
+constexpr std::uint32_t kNoAnchor = ~std::uint32_t{0};
+
 // The passes stop after checking this many times the structural springs.
 constexpr double kWork = 32.0;
 
@@ -69,6 +71,25 @@ void attach(const Model& m, State& s, const Workspace& ws, double cap) {
     }
 }
 
+// A mass farther from its held anchor than cap times their path is put back on that sphere,
+// and (with v) stops moving away from the anchor. The anchors do not move: any order.
+void held_reach(const Model& m, Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* v, const Workspace& ws, double cap) {
+  const auto n = static_cast<std::int64_t>(ws.anchor.size());
+  [[maybe_unused]] const int nt = team(ws, m.mass_count());
+#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const std::uint32_t a = ws.anchor[static_cast<std::size_t>(i)];
+    if (a == kNoAnchor || a == static_cast<std::uint32_t>(i) || m.inv_mass[i] == 0.0) continue;
+    const Eigen::Vector3d d = x.col(i) - x.col(a);
+    const double len = d.norm(), limit = cap * ws.reach[static_cast<std::size_t>(i)];
+    if (!(len > limit)) continue;
+    x.col(i) += d * (limit / len - 1.0);
+    if (!v) continue;
+    const double away = (v->col(i) - v->col(a)).dot(d);
+    if (away > 0.0) v->col(i) -= (away / (len * len)) * d;
+  }
+}
+
 // The attachments to the held masses: every mass's nearest held mass along the structural
 // springs (Dijkstra from all of them at once, on rest lengths: a path no shorter than the
 // cloth's own), and a mass farther from it than cap times that path is put back on its
@@ -76,12 +97,11 @@ void attach(const Model& m, State& s, const Workspace& ws, double cap) {
 // from where the colliders hold the cloth, however long the way.
 void attach_to_held(const Model& m, State& s, Workspace& ws, double cap) {
   if (ws.held.empty()) return;
-  constexpr std::uint32_t kNone = ~std::uint32_t{0};
   auto& heap = ws.frontier;
   const auto later = [](const auto& p, const auto& q) { return p.first > q.first; };
   heap.clear();
   for (std::uint32_t i = 0; i < m.mass_count(); ++i) {
-    ws.anchor[i] = ws.held[i] ? i : kNone;
+    ws.anchor[i] = ws.held[i] ? i : kNoAnchor;
     ws.reach[i] = ws.held[i] ? 0.0 : std::numeric_limits<double>::infinity();
     if (ws.held[i]) heap.emplace_back(0.0, i);
   }
@@ -103,19 +123,7 @@ void attach_to_held(const Model& m, State& s, Workspace& ws, double cap) {
       std::push_heap(heap.begin(), heap.end(), later);
     }
   }
-  const auto n = static_cast<std::int64_t>(m.mass_count());
-  [[maybe_unused]] const int nt = team(ws, m.mass_count());
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-  for (std::int64_t i = 0; i < n; ++i) {
-    const std::uint32_t a = ws.anchor[static_cast<std::size_t>(i)];
-    if (a == kNone || a == static_cast<std::uint32_t>(i) || m.inv_mass[i] == 0.0) continue;
-    const Eigen::Vector3d d = s.x.col(i) - s.x.col(a);
-    const double len = d.norm(), limit = cap * ws.reach[static_cast<std::size_t>(i)];
-    if (!(len > limit)) continue;
-    s.x.col(i) += d * (limit / len - 1.0);
-    const double away = (s.v.col(i) - s.v.col(a)).dot(d);
-    if (away > 0.0) s.v.col(i) -= (away / (len * len)) * d;
-  }
+  held_reach(m, s.x, &s.v, ws, cap);
 }
 
 // The next pass's springs: those of the masses in ws.moved_list past the cap, each once, in
@@ -139,6 +147,10 @@ std::size_t next_pass(const Model& m, Workspace& ws, double cap, const double* x
 }
 
 }  // namespace
+
+void keep_in_reach(const Model& m, Eigen::Matrix3Xd& x, const Workspace& ws) {
+  if (m.strain_limit > 0.0 && !ws.anchor.empty()) held_reach(m, x, nullptr, ws, 1.0 + m.strain_limit);
+}
 
 void limit_strain(const Model& m, State& s, Workspace& ws) {
   if (!(m.strain_limit > 0.0)) return;

@@ -150,6 +150,7 @@ void xpbd(const Model& m, State& s, Workspace& ws, double h) {
   const double* w = m.inv_mass.data();
   double* x = s.x.data();
   by_colour(sc.structural, ws, [&](const Link& l) { project(l, w, inv_h2, x); });
+  keep_in_reach(m, s.x, ws);
   push_out(m, s, sc, ws, h);
 }
 
