@@ -97,10 +97,7 @@ struct Memory {
 };
 inline Memory memory_per_mass(const Model& m, const State& s, const Workspace& ws) {
   const double n = static_cast<double>(m.mass_count());
-  const std::size_t model = sizeof(double) * static_cast<std::size_t>(m.x0.size() + m.mass.size() + m.inv_mass.size() +
-                                                                        m.rest_length0.size()) +
-                            vec_bytes(m.pinned) + vec_bytes(m.spring_a) + vec_bytes(m.spring_b) +
-                            vec_bytes(m.spring_kind);
+  const std::size_t model = m.bytes();
   const std::size_t state = sizeof(double) * static_cast<std::size_t>(s.x.size() + s.v.size());
   const std::size_t work = sizeof(double) * static_cast<std::size_t>(ws.f.size() + ws.pinned_x.size()) +
                            vec_bytes(ws.pinned_index) + vec_bytes(ws.contact_hint) + vec_bytes(ws.spring_f) +

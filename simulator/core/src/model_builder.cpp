@@ -64,7 +64,7 @@ std::size_t ModelBuilder::add_cloth(const Eigen::Matrix3Xd& positions,
     model_.spring_b.push_back(r.first_mass + s.b);
     model_.spring_kind.push_back(s.kind);
     model_.rest_length0[si] =
-        s.rest_length >= 0.0 ? s.rest_length : (positions.col(s.a) - positions.col(s.b)).norm();
+        static_cast<float>(s.rest_length >= 0.0 ? s.rest_length : (positions.col(s.a) - positions.col(s.b)).norm());
     ++si;
   }
   for (auto t : triangles) model_.triangles.push_back(r.first_mass + t);

@@ -14,7 +14,7 @@ void add_spring_forces(const Model& model, const Eigen::Matrix3Xd& x, Eigen::Mat
   const std::size_t s_count = model.spring_count();
   const std::uint32_t* sa = model.spring_a.data();
   const std::uint32_t* sb = model.spring_b.data();
-  const double* rest = model.rest_length0.data();
+  const float* rest = model.rest_length0.data();
   const std::uint8_t* kind = model.spring_kind.data();
   const double* k = model.spring_modulus;  // k[kind != 0] * scale[s] = model.spring_stiffness(s)
   const float* scale = model.spring_scale.data();
@@ -45,7 +45,7 @@ void spring_pass_scalar(const Model& model, const double* px, double* fs, std::s
                         const std::uint32_t* list) {
   const std::uint32_t* sa = model.spring_a.data();
   const std::uint32_t* sb = model.spring_b.data();
-  const double* rest = model.rest_length0.data();
+  const float* rest = model.rest_length0.data();
   const std::uint8_t* kind = model.spring_kind.data();
   const double* k = model.spring_modulus;  // k[kind != 0] * scale[s] = model.spring_stiffness(s)
   const float* scale = model.spring_scale.data();

@@ -19,7 +19,7 @@ __attribute__((target("avx2"))) void spring_pass_avx2_impl(const Model& model, c
                                                            const std::uint32_t* list) {
   const std::uint32_t* sa = model.spring_a.data();
   const std::uint32_t* sb = model.spring_b.data();
-  const double* rest = model.rest_length0.data();
+  const float* rest = model.rest_length0.data();
   const std::uint8_t* kind = model.spring_kind.data();
   // the stiffness of 4 springs: k_struct where the kind byte is 0, else k_bend (Model::spring_stiffness)
   const __m256d ks = _mm256_set1_pd(model.spring_modulus[0]), kb = _mm256_set1_pd(model.spring_modulus[1]);
@@ -67,7 +67,7 @@ __attribute__((target("avx2"))) void spring_pass_avx2_impl(const Model& model, c
         std::uint32_t four;
         std::memcpy(&four, kind + s0, sizeof four);
         kinds = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(static_cast<int>(four)));
-        rv[g] = _mm256_loadu_pd(rest + s0);
+        rv[g] = _mm256_cvtps_pd(_mm_loadu_ps(rest + s0));
         sv = _mm_loadu_ps(scale + s0);
       }
       // k of the kind, times the spring's scale (Model::spring_stiffness)

@@ -82,7 +82,7 @@ clothsim::Model without_bend_springs(const clothsim::Model& m) {
   out.spring_a.clear();
   out.spring_b.clear();
   out.spring_kind.clear();
-  std::vector<double> rest;
+  std::vector<float> rest;
   for (std::size_t s = 0; s < m.spring_count(); ++s)
     if (m.spring_kind[s] == 0) {
       out.spring_a.push_back(m.spring_a[s]);
@@ -90,7 +90,7 @@ clothsim::Model without_bend_springs(const clothsim::Model& m) {
       out.spring_kind.push_back(0);
       rest.push_back(m.rest_length0[static_cast<Eigen::Index>(s)]);
     }
-  out.rest_length0 = Eigen::Map<Eigen::VectorXd>(rest.data(), static_cast<Eigen::Index>(rest.size()));
+  out.rest_length0 = Eigen::Map<Eigen::VectorXf>(rest.data(), static_cast<Eigen::Index>(rest.size()));
   out.cloths.clear();  // the ranges no longer hold; nothing below needs them
   return out;
 }

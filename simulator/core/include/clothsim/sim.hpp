@@ -70,7 +70,7 @@ struct Model {
   std::vector<std::uint8_t> pinned;      ///< (n) 1 if the mass never moves
 
   std::vector<std::uint32_t> spring_a, spring_b;  ///< (s) global mass indices
-  Eigen::VectorXd rest_length0;          ///< (s) m
+  Eigen::VectorXf rest_length0;          ///< (s) m, in float: 4 B a spring (7 digits)
   std::vector<std::uint8_t> spring_kind; ///< (s) 0 structural, 1 bend: b2o::SpringKind
   std::vector<std::uint32_t> triangles;  ///< (3 t) the cloths' faces, global mass indices
   /// (s) a spring's share of its kind's modulus: k = spring_modulus[kind] * scale. The seed
@@ -114,6 +114,13 @@ struct Model {
   }
   /// N s/m, mass i's velocity damping.
   double damping_of(std::size_t i) const { return damping + drag * mass[static_cast<Eigen::Index>(i)]; }
+  /// The bytes of the per-mass, per-spring and per-face arrays (not the colliders').
+  std::size_t bytes() const {
+    const auto doubles = static_cast<std::size_t>(x0.size() + mass.size() + inv_mass.size());
+    return sizeof(double) * doubles + pinned.size() + spring_kind.size() +
+           sizeof(std::uint32_t) * (spring_a.size() + spring_b.size() + triangles.size() + attach_pin.size()) +
+           sizeof(float) * (static_cast<std::size_t>(rest_length0.size()) + spring_scale.size() + attach_rest.size());
+  }
 };
 
 /// The only thing that changes.
