@@ -74,6 +74,15 @@ double rms_error(const Trajectory& a, const Trajectory& b, double size) {
   return std::sqrt(sum / count) / size;
 }
 
+std::string fmt(double v, int prec = 3) {
+  if (std::isnan(v)) return "-";
+  std::ostringstream o;
+  o << std::setprecision(prec) << v;
+  return o.str();
+}
+
+}  // namespace
+
 double cloth_size(const Model& m) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
@@ -84,9 +93,6 @@ double cloth_size(const Model& m) {
   return (hi - lo).norm();
 }
 
-// Time at which a curve reaches `target` error for good (this and every smaller dt at or
-// below it), interpolating log-log between the resolved points (sorted by dt descending).
-// NaN if never reached; `bound` when already below at the largest dt (an upper bound).
 double time_to(const std::vector<const Point*>& pts, double target, bool& bound) {
   bound = false;
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -104,15 +110,6 @@ double time_to(const std::vector<const Point*>& pts, double target, bool& bound)
   }
   return kNaN;
 }
-
-std::string fmt(double v, int prec = 3) {
-  if (std::isnan(v)) return "-";
-  std::ostringstream o;
-  o << std::setprecision(prec) << v;
-  return o.str();
-}
-
-}  // namespace
 
 Result run(const Model& model, const std::string& scene, const Settings& s, std::ostream& progress) {
   Result r;
