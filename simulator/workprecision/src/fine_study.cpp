@@ -154,7 +154,7 @@ FinePoint measure(const Model& model, Integrator method, int n, const Start& sta
 FineRow summarise(Integrator method, const FineResult& r, const FineSettings& s) {
   FineRow row;
   row.method = method;
-  row.strain_h = row.strain_cpu = row.strain_error = kNaN;
+  row.strain_h = row.strain_cpu = row.strain_error = row.run_h = row.run_cpu = kNaN;
   std::vector<Point> curve;  // largest step first
   for (const FinePoint& p : r.points) {
     if (p.method != method) continue;
@@ -163,8 +163,14 @@ FineRow summarise(Integrator method, const FineResult& r, const FineSettings& s)
       row.strain_cpu = p.cpu_per_second;
       row.strain_error = p.error;
     }
-    // resolved: above the reference's accuracy, below the cloth's size (a blow-up)
-    if (p.finite && p.error >= 10.0 * r.ref_check && p.error <= 1.0) {
+    // every finite run below the cloth's size (a blow-up); an error under the reference's own
+    // difference is that floor, not resolved, but it is under the target all the same when
+    // the target is above the floor (print_fine_summary says whether it is)
+    if (p.finite && p.error <= s.error_target && !(p.cpu_per_second >= row.run_cpu)) {
+      row.run_h = p.h;
+      row.run_cpu = p.cpu_per_second;
+    }
+    if (p.finite && p.error <= 1.0) {
       Point q;
       q.method = method;
       q.dt = p.h;
@@ -228,13 +234,15 @@ FineResult run_fine(const Model& model, const std::string& scene, const FineSett
                << std::flush;
       r.points.push_back(p);
     }
-  double se = kNaN;
+  r.se_cpu = r.speedup = r.speedup_run = kNaN;
   for (const FinePoint& p : r.points)
-    if (p.planned && p.method == Integrator::SymplecticEuler) se = p.cpu_per_second;
-  r.speedup = kNaN;
+    if (p.planned && p.method == Integrator::SymplecticEuler) r.se_cpu = p.cpu_per_second;
   for (Integrator m : methods) {
     r.rows.push_back(summarise(m, r, s));
-    if (m == Integrator::XPBD) r.speedup = se / r.rows.back().target_cpu;
+    if (m == Integrator::XPBD) {
+      r.speedup = r.se_cpu / r.rows.back().target_cpu;
+      r.speedup_run = r.se_cpu / r.rows.back().run_cpu;
+    }
   }
   return r;
 }
@@ -244,24 +252,31 @@ void print_fine_summary(const FineResult& r, const FineSettings& s, std::ostream
       << " m, symplectic Euler dt_stable " << fmt(r.dt_stable) << " s, frame " << fmt(r.frame) << " s\n";
   out << "first contact (fall) at " << fmt(r.first_contact) << " s; measured interval " << fmt(r.start) << " to "
       << fmt(r.start + r.interval) << " s; reference rk4 h_ref " << fmt(r.h_ref) << " s vs h_ref/2 differ by "
-      << fmt(r.ref_check) << " (errors below " << fmt(10.0 * r.ref_check) << " are not resolved)\n";
+      << fmt(r.ref_check) << ", the floor of the errors: the target " << fmt(s.error_target) << " is "
+      << fmt(s.error_target / r.ref_check) << "x above it"
+      << (s.error_target >= 5.0 * r.ref_check ? "" : " (NOT resolved: under 5x)") << "\n";
   out << "cpu per simulated second (cpu/s); strain <= " << fmt(100.0 * s.strain_cap) << " %: the largest step whose "
       << "run stays at or below it\n";
   out << std::left << std::setw(18) << "method" << std::setw(12) << "h at strain" << std::setw(14)
-      << "cpu/s there" << std::setw(12) << "its error" << "cpu/s to " << fmt(100.0 * s.error_target) << " %\n";
+      << "cpu/s there" << std::setw(12) << "its error" << std::setw(16)
+      << "cpu/s to " + fmt(100.0 * s.error_target) + " %" << "cheapest run there (h, cpu/s)\n";
   for (const FineRow& row : r.rows)
     out << std::setw(18) << to_string(row.method) << std::setw(12) << fmt(row.strain_h) << std::setw(14)
         << (std::isnan(row.strain_cpu) ? std::string("none") : fmt(row.strain_cpu) + " s") << std::setw(12)
         << fmt(row.strain_error)
+        << std::setw(16)
         << (std::isnan(row.target_cpu) ? std::string("not reached")
                                        : (row.target_bound ? "<= " : "") + fmt(row.target_cpu) + " s")
-        << "\n";
+        << (std::isnan(row.run_h) ? std::string("none") : fmt(row.run_h) + " s, " + fmt(row.run_cpu) + " s") << "\n";
   out << "target: xpbd to " << fmt(100.0 * s.error_target) << " % against symplectic Euler at its planned step (h "
-      << fmt(r.h_se) << " s): ";
-  if (std::isnan(r.speedup))
+      << fmt(r.h_se) << " s, " << fmt(r.se_cpu) << " cpu/s): ";
+  if (std::isnan(r.speedup)) {
     out << "xpbd does not reach it -> NOT met (>= 10x)\n";
-  else
-    out << fmt(r.speedup) << "x cheaper -> " << (r.speedup >= 10.0 ? "met" : "NOT met") << " (>= 10x)\n";
+    return;
+  }
+  out << fmt(r.speedup) << "x cheaper (interpolated), " << fmt(r.speedup_run)
+      << "x at its cheapest run at or below it -> " << (r.speedup >= 10.0 && r.speedup_run >= 10.0 ? "met" : "NOT met")
+      << " (>= 10x in both)\n";
 }
 
 void write_fine_csv(const FineResult& r, const std::string& dir) {

@@ -51,6 +51,8 @@ struct FineRow {
   double strain_error = 0.0;  ///< its error
   double target_cpu = 0.0;    ///< CPU s per simulated s to error_target (NaN: not reached)
   bool target_bound = false;  ///< already below at the largest h: an upper bound
+  double run_h = 0.0;         ///< the cheapest run at or below error_target: its h (NaN: none)
+  double run_cpu = 0.0;       ///< its CPU s per simulated s
 };
 
 struct FineResult {
@@ -67,7 +69,9 @@ struct FineResult {
   double ref_contacts = 0.0;  ///< most points in contact in the reference run
   std::vector<FinePoint> points;
   std::vector<FineRow> rows;
-  double speedup = 0.0;       ///< symplectic Euler's CPU per s at its planned step / XPBD's to error_target
+  double se_cpu = 0.0;        ///< symplectic Euler's CPU per s at its planned step
+  double speedup = 0.0;       ///< se_cpu / XPBD's to error_target (interpolated)
+  double speedup_run = 0.0;   ///< se_cpu / XPBD's cheapest run at or below error_target
 };
 
 /// Runs the fine study on `model` (its integrator: the default method that runs the fall).
