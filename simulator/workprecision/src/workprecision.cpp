@@ -118,7 +118,8 @@ Result run(const Model& model, const std::string& scene, const Settings& s, std:
   const StabilityReport stab = analyse_stability(model);
   r.dt_stable = stab.dt_stable_symplectic;
   progress << "[" << scene << "] " << model.mass_count() << " masses, " << model.spring_count()
-           << " springs; " << describe(stab, Integrator::SymplecticEuler) << "\n";
+           << " springs; omega_max " << fmt(stab.omega_max) << " rad/s (springs " << fmt(stab.omega_springs)
+           << ", contact " << fmt(stab.omega_contact) << ") -> symplectic Euler dt_stable " << fmt(r.dt_stable) << " s\n";
   const double dt_top = s.top_factor * r.dt_stable;
   const double dt_min = dt_top / std::pow(2.0, s.levels - 1);
   // The implicit methods start at dt_top * 2^j, as high as implicit_top_factor allows while
