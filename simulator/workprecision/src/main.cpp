@@ -2,11 +2,13 @@
 // built with.
 //   clothsim_wp --out docs/wp                      full study (minutes)
 //   clothsim_wp --fast --out build/wp-smoke        a short smoke run (ctest)
+//   clothsim_wp --fine --out docs/wp               the fine, stiff case (skirt_hires in cotton)
 #include <clothsim/integrators.hpp>
 #include <clothsim/scene.hpp>
 #include <clothsim/stability.hpp>
 #include <clothsim/step.hpp>
 #include <clothsim/workprecision.hpp>
+#include <clothsim/wp_fine.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -30,6 +32,9 @@
 #endif
 #ifdef CLOTHSIM_WP_HAVE_HANGING
 #include "hanging.h"
+#endif
+#ifdef CLOTHSIM_WP_HAVE_SKIRT_HIRES
+#include "skirt_hires.h"
 #endif
 
 namespace {
@@ -117,18 +122,21 @@ void model_cost(const SceneEntry& e, double stiffness_scale) {
   }
 }
 
-}  // namespace
 
-int main(int argc, char** argv) {
-  CLI::App app{"clothsim_wp: work-precision report (every integrator, halved dt, against a reference)"};
+// The command line, as parsed.
+struct Cli {
   std::string out_dir = "work-precision";
   std::vector<std::string> scenes, methods;
-  bool fast = false;
-  double horizon = 0.0;
-  int levels = 0, repeats = -1;
-  // A finite number > 0 (CLI11's PositiveNumber lets nan through, and prints its range as 0 to
-  // a 309-digit number).
-  const auto finite_positive = CLI::Validator(
+  bool fast = false, cost = false, fine = false;
+  double horizon = 0.0, stiffness_scale = 1.0;
+  int levels = 0, repeats = -1, ref_refine = 0;
+  bool scale_given = false;
+};
+
+// A finite number > 0 (CLI11's PositiveNumber lets nan through, and prints its range as 0 to
+// a 309-digit number).
+CLI::Validator finite_positive() {
+  return CLI::Validator(
       [](std::string& text) -> std::string {
         char* end = nullptr;
         const double v = std::strtod(text.c_str(), &end);
@@ -137,27 +145,35 @@ int main(int argc, char** argv) {
         return {};
       },
       "NUMBER > 0");
+}
+
+std::string known_scenes() {
   std::string known;
   for (const auto& e : baked_scenes()) known += (known.empty() ? "" : ", ") + std::string(e.name);
+  return known;
+}
+
+// Parses the command line into `c`: -1 to go on, else the exit code (--help, bad input: 2).
+int parse(int argc, char** argv, Cli& c) {
+  CLI::App app{"clothsim_wp: work-precision report (every integrator, halved dt, against a reference)"};
   app.set_version_flag("--version", CLOTHSIM_WP_VERSION);
-  app.add_option("--out", out_dir, "directory for <scene>.csv and <scene>.svg")->capture_default_str();
-  app.add_option("--scene", scenes, "scene(s) to study: " + known + " (default: all of them)");
-  app.add_option("--integrators", methods, "integrators (default: all): " + clothsim::integrator_names())
+  app.add_option("--out", c.out_dir, "directory for <scene>.csv and <scene>.svg")->capture_default_str();
+  app.add_option("--scene", c.scenes, "scene(s) to study: " + known_scenes() + " (default: all of them)");
+  app.add_option("--integrators", c.methods, "integrators (default: all): " + clothsim::integrator_names())
       ->delimiter(',');
-  app.add_flag("--fast", fast, "smoke run: short horizon, 3 levels, 1 repeat");
-  bool cost = false;
-  double stiffness_scale = 1.0;
-  auto* o_scale = app.add_option("--stiffness-scale", stiffness_scale,
+  app.add_flag("--fast", c.fast, "smoke run: short horizon, 3 levels, 1 repeat");
+  auto* o_scale = app.add_option("--stiffness-scale", c.stiffness_scale,
                                  "multiply every spring's stiffness (stiffer cloth)")
-                      ->check(finite_positive);
-  app.add_flag("--model-cost", cost, "instead: time per step and dt_stable with and without bend springs / colliders");
-  app.add_option("--horizon", horizon, "simulated seconds per run (default per scene; rounded to whole steps of the "
-                                       "largest dt)")
-      ->check(finite_positive);
-  app.add_option("--levels", levels, "number of halved dt per method (default 8)")->check(CLI::Range(2, 16));
-  app.add_option("--repeats", repeats, "timed runs after the warm-up (default 3)")->check(CLI::Range(1, 20));
-  int ref_refine = 0;
-  app.add_option("--ref-refine", ref_refine, "reference step = smallest dt / this (default 8)")
+                      ->check(finite_positive());
+  app.add_flag("--model-cost", c.cost, "instead: time per step and dt_stable with and without bend springs / colliders");
+  app.add_flag("--fine", c.fine, "instead: the fine, stiff case (skirt_hires in cotton, from just before contact; "
+                                 "with --fast a short smoke run); writes <out>/skirt_hires.csv");
+  app.add_option("--horizon", c.horizon, "simulated seconds per run (default per scene; rounded to whole steps of the "
+                                         "largest dt)")
+      ->check(finite_positive());
+  app.add_option("--levels", c.levels, "number of halved dt per method (default 8)")->check(CLI::Range(2, 16));
+  app.add_option("--repeats", c.repeats, "timed runs after the warm-up (default 3)")->check(CLI::Range(1, 20));
+  app.add_option("--ref-refine", c.ref_refine, "reference step = smallest dt / this (default 8)")
       ->check(CLI::Range(2, 64));
   try {
     app.parse(argc, argv);
@@ -167,17 +183,29 @@ int main(int argc, char** argv) {
     std::cerr << "clothsim_wp: error: " << e.what() << "\n";
     return 2;
   }
+  c.scale_given = o_scale->count() > 0;
+  // a table on the terminal, or a study of its own: the sweep's options do nothing there
+  const std::vector<const char*> sweep_only = {"--horizon", "--levels", "--repeats", "--ref-refine", "--scene",
+                                               "--stiffness-scale"};
+  if (c.cost)
+    for (const char* name : {"--out", "--integrators", "--horizon", "--levels", "--repeats", "--ref-refine", "--fast",
+                             "--fine"})
+      if (app.count(name) > 0) {
+        std::cerr << "clothsim_wp: error: " << name << " is for the study, not for --model-cost\n";
+        return 2;
+      }
+  if (c.fine)
+    for (const char* name : sweep_only)
+      if (app.count(name) > 0) {
+        std::cerr << "clothsim_wp: error: " << name << " is for the sweep over baked scenes, not for --fine\n";
+        return 2;
+      }
+  return -1;
+}
 
-  clothsim::wp::Settings settings;
-  if (fast) {
-    settings.levels = 3;
-    settings.repeats = 1;
-    settings.ref_refine = 4;
-  }
-  if (levels > 0) settings.levels = levels;
-  if (repeats > 0) settings.repeats = repeats;
-  if (ref_refine > 0) settings.ref_refine = ref_refine;
-  for (const std::string& name : methods) {
+// --integrators into `out`: -1 to go on, 2 for an unknown name or one given twice.
+int parse_methods(const std::vector<std::string>& names, std::vector<clothsim::Integrator>& out) {
+  for (const std::string& name : names) {
     const auto m = clothsim::parse_integrator(name);
     if (!m) {
       std::cerr << "clothsim_wp: error: --integrators: unknown integrator '" << name << "' (known: "
@@ -185,13 +213,17 @@ int main(int argc, char** argv) {
       return 2;
     }
     // (given twice, its points would merge and its fitted order would be nonsense)
-    if (std::find(settings.methods.begin(), settings.methods.end(), *m) != settings.methods.end()) {
+    if (std::find(out.begin(), out.end(), *m) != out.end()) {
       std::cerr << "clothsim_wp: error: --integrators: '" << name << "' given twice\n";
       return 2;
     }
-    settings.methods.push_back(*m);
+    out.push_back(*m);
   }
-  std::vector<SceneEntry> todo;
+  return -1;
+}
+
+// --scene into `todo` (all of them when none is named): -1 to go on, else 2.
+int select_scenes(const std::vector<std::string>& scenes, std::vector<SceneEntry>& todo) {
   const auto all = baked_scenes();
   if (all.empty()) {
     std::cerr << "clothsim_wp: error: built without any of the scenes skirt, hanging\n";
@@ -207,65 +239,121 @@ int main(int argc, char** argv) {
     for (const auto& e : all)
       if (name == e.name) todo.push_back(e), found = true;
     if (!found) {
-      std::cerr << "clothsim_wp: error: --scene: '" << name << "' is not one of this tool's scenes (" << known << ")\n";
+      std::cerr << "clothsim_wp: error: --scene: '" << name << "' is not one of this tool's scenes ("
+                << known_scenes() << ")\n";
       return 2;
     }
   }
   if (todo.empty()) todo = all;
+  return -1;
+}
 
+std::string label_of(const SceneEntry& e, double stiffness_scale) {
+  if (stiffness_scale == 1.0) return e.name;
+  std::ostringstream o;
+  o << e.name << "_k" << stiffness_scale;
+  return o.str();
+}
+
+// The sweep over the baked scenes: 0, 1 (a failed run or write), 2 (a scaled stiffness overflows).
+int run_studies(const Cli& c, const clothsim::wp::Settings& settings, const std::vector<SceneEntry>& todo) {
   int status = 0;
-  if (cost) {
-    // a table on the terminal: the study's options do nothing here, so they are refused
-    for (const char* name : {"--out", "--integrators", "--horizon", "--levels", "--repeats", "--ref-refine", "--fast"})
-      if (app.count(name) > 0) {
-        std::cerr << "clothsim_wp: error: " << name << " is for the study, not for --model-cost\n";
+  for (const auto& e : todo) {
+    clothsim::wp::Settings s = settings;
+    s.horizon = c.horizon > 0.0 ? c.horizon : (c.fast ? 0.05 : e.horizon);
+    clothsim::Options options = clothsim::scene_options(*e.scene);
+    const std::string label = label_of(e, c.stiffness_scale);
+    if (c.stiffness_scale != 1.0) {  // both kinds, before the build: nothing keeps the old values
+      options.k_struct *= c.stiffness_scale;
+      options.k_bend *= c.stiffness_scale;
+      if (!std::isfinite(options.k_struct) || !std::isfinite(options.k_bend)) {
+        std::cerr << "clothsim_wp: error: --stiffness-scale " << c.stiffness_scale
+                  << ": the scaled stiffness overflows\n";
         return 2;
       }
-    for (const auto& e : todo) model_cost(e, o_scale->count() ? stiffness_scale : 1.0);
-    return 0;
+    }
+    const clothsim::Model model = clothsim::build_model(*e.scene, options);
+    const auto result = clothsim::wp::run(model, label, s, std::cerr);
+    if (c.horizon > 0.0 && std::abs(result.horizon - c.horizon) > 1e-9 * c.horizon)
+      std::cerr << "clothsim_wp: note: --horizon " << c.horizon << " s taken as " << result.horizon
+                << " s (whole steps of the largest dt, at least one)\n";
+    clothsim::wp::write_outputs(result, c.out_dir);
+    clothsim::wp::print_summary(result, std::cout);
+    std::cout << "wrote " << c.out_dir << "/" << label << ".csv and .svg\n" << std::flush;
+    // a point flagged finite must carry a finite error (never a NaN passed on silently)
+    for (const auto& p : result.points)
+      if (p.finite && !std::isfinite(p.error)) status = 1;
   }
-  // The outputs <out>/<label>.csv/.svg, checked before the study (minutes): a bad path is bad input.
-  auto label_of = [stiffness_scale](const SceneEntry& e) {
-    if (stiffness_scale == 1.0) return std::string(e.name);
-    std::ostringstream o;
-    o << e.name << "_k" << stiffness_scale;
-    return o.str();
-  };
-  for (const auto& e : todo)
-    if (const std::string why = clothsim::wp::check_outputs(out_dir, label_of(e)); !why.empty()) {
-      std::cerr << "clothsim_wp: error: --out: " << why << "\n";
-      return 2;
-    }
+  return status;
+}
+
+// --fine: the fine, stiff case, skirt_hires with the default options (cotton, xpbd).
+int run_fine_case(const Cli& c, const std::vector<clothsim::Integrator>& methods) {
+#ifdef CLOTHSIM_WP_HAVE_SKIRT_HIRES
+  const std::string label = "skirt_hires";
+  if (const std::string why = clothsim::wp::check_outputs(c.out_dir, label); !why.empty()) {
+    std::cerr << "clothsim_wp: error: --out: " << why << "\n";
+    return 2;
+  }
+  clothsim::wp::FineSettings s;
+  s.methods = methods;
+  if (c.fast) {  // one frame, the planned steps only (xpbd also at a quarter of it)
+    s.frames = 1;
+    s.samples = 1;
+    s.explicit_factors = {1.0};
+    s.implicit_factors = {4.0};
+    s.xpbd_factors = {1.0, 0.25};
+  }
+  const clothsim::Model model = clothsim::build_model(b2o::gen::skirt_hires::scene, clothsim::Options{});
+  const auto result = clothsim::wp::run_fine(model, label, s, std::cerr);
+  clothsim::wp::write_fine_csv(result, c.out_dir);
+  clothsim::wp::print_fine_summary(result, s, std::cout);
+  std::cout << "wrote " << c.out_dir << "/" << label << ".csv\n" << std::flush;
+  return 0;
+#else
+  (void)methods;
+  std::cerr << "clothsim_wp: error: --fine: built without the scene skirt_hires\n";
+  return 2;
+#endif
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Cli c;
+  if (const int code = parse(argc, argv, c); code >= 0) return code;
+  clothsim::wp::Settings settings;
+  if (c.fast) {
+    settings.levels = 3;
+    settings.repeats = 1;
+    settings.ref_refine = 4;
+  }
+  if (c.levels > 0) settings.levels = c.levels;
+  if (c.repeats > 0) settings.repeats = c.repeats;
+  if (c.ref_refine > 0) settings.ref_refine = c.ref_refine;
+  if (const int code = parse_methods(c.methods, settings.methods); code >= 0) return code;
   try {
-    for (const auto& e : todo) {
-      clothsim::wp::Settings s = settings;
-      s.horizon = horizon > 0.0 ? horizon : (fast ? 0.05 : e.horizon);
-      clothsim::Options options = clothsim::scene_options(*e.scene);
-      const std::string label = label_of(e);
-      if (stiffness_scale != 1.0) {  // both kinds, before the build: nothing keeps the old values
-        options.k_struct *= stiffness_scale;
-        options.k_bend *= stiffness_scale;
-        if (!std::isfinite(options.k_struct) || !std::isfinite(options.k_bend)) {
-          std::cerr << "clothsim_wp: error: --stiffness-scale " << stiffness_scale
-                    << ": the scaled stiffness overflows\n";
-          return 2;
-        }
-      }
-      const clothsim::Model model = clothsim::build_model(*e.scene, options);
-      const auto result = clothsim::wp::run(model, label, s, std::cerr);
-      if (horizon > 0.0 && std::abs(result.horizon - horizon) > 1e-9 * horizon)
-        std::cerr << "clothsim_wp: note: --horizon " << horizon << " s taken as " << result.horizon
-                  << " s (whole steps of the largest dt, at least one)\n";
-      clothsim::wp::write_outputs(result, out_dir);
-      clothsim::wp::print_summary(result, std::cout);
-      std::cout << "wrote " << out_dir << "/" << label << ".csv and .svg\n" << std::flush;
-      // a point flagged finite must carry a finite error (never a NaN passed on silently)
-      for (const auto& p : result.points)
-        if (p.finite && !std::isfinite(p.error)) status = 1;
-    }
+    if (c.fine) return run_fine_case(c, settings.methods);
   } catch (const std::exception& ex) {
     std::cerr << "clothsim_wp: error: " << ex.what() << "\n";
     return 1;
   }
-  return status;
+  std::vector<SceneEntry> todo;
+  if (const int code = select_scenes(c.scenes, todo); code >= 0) return code;
+  if (c.cost) {
+    for (const auto& e : todo) model_cost(e, c.scale_given ? c.stiffness_scale : 1.0);
+    return 0;
+  }
+  // The outputs <out>/<label>.csv/.svg, checked before the study (minutes): a bad path is bad input.
+  for (const auto& e : todo)
+    if (const std::string why = clothsim::wp::check_outputs(c.out_dir, label_of(e, c.stiffness_scale)); !why.empty()) {
+      std::cerr << "clothsim_wp: error: --out: " << why << "\n";
+      return 2;
+    }
+  try {
+    return run_studies(c, settings, todo);
+  } catch (const std::exception& ex) {
+    std::cerr << "clothsim_wp: error: " << ex.what() << "\n";
+    return 1;
+  }
 }

@@ -74,6 +74,15 @@ double rms_error(const Trajectory& a, const Trajectory& b, double size) {
   return std::sqrt(sum / count) / size;
 }
 
+std::string fmt(double v, int prec = 3) {
+  if (std::isnan(v)) return "-";
+  std::ostringstream o;
+  o << std::setprecision(prec) << v;
+  return o.str();
+}
+
+}  // namespace
+
 double cloth_size(const Model& m) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
@@ -84,9 +93,6 @@ double cloth_size(const Model& m) {
   return (hi - lo).norm();
 }
 
-// Time at which a curve reaches `target` error for good (this and every smaller dt at or
-// below it), interpolating log-log between the resolved points (sorted by dt descending).
-// NaN if never reached; `bound` when already below at the largest dt (an upper bound).
 double time_to(const std::vector<const Point*>& pts, double target, bool& bound) {
   bound = false;
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -105,15 +111,6 @@ double time_to(const std::vector<const Point*>& pts, double target, bool& bound)
   return kNaN;
 }
 
-std::string fmt(double v, int prec = 3) {
-  if (std::isnan(v)) return "-";
-  std::ostringstream o;
-  o << std::setprecision(prec) << v;
-  return o.str();
-}
-
-}  // namespace
-
 Result run(const Model& model, const std::string& scene, const Settings& s, std::ostream& progress) {
   Result r;
   r.scene = scene;
@@ -121,7 +118,8 @@ Result run(const Model& model, const std::string& scene, const Settings& s, std:
   const StabilityReport stab = analyse_stability(model);
   r.dt_stable = stab.dt_stable_symplectic;
   progress << "[" << scene << "] " << model.mass_count() << " masses, " << model.spring_count()
-           << " springs; " << describe(stab, Integrator::SymplecticEuler) << "\n";
+           << " springs; omega_max " << fmt(stab.omega_max) << " rad/s (springs " << fmt(stab.omega_springs)
+           << ", contact " << fmt(stab.omega_contact) << ") -> symplectic Euler dt_stable " << fmt(r.dt_stable) << " s\n";
   const double dt_top = s.top_factor * r.dt_stable;
   const double dt_min = dt_top / std::pow(2.0, s.levels - 1);
   // The implicit methods start at dt_top * 2^j, as high as implicit_top_factor allows while

@@ -60,6 +60,15 @@ struct Result {
   Integrator best_1e4{};
 };
 
+/// m, the bounding-box diagonal of the model's rest positions (the error's scale).
+double cloth_size(const Model& model);
+
+/// The CPU time (Point::seconds) at which a curve reaches `target` error for good (this and
+/// every smaller dt below it), interpolating log-log between the points (sorted by dt
+/// descending). NaN if never reached; `bound` when already below at the largest dt (an upper
+/// bound).
+double time_to(const std::vector<const Point*>& points, double target, bool& bound);
+
 /// Runs the study on one Model; progress lines go to `progress`.
 Result run(const Model& model, const std::string& scene, const Settings& settings, std::ostream& progress);
 
