@@ -156,24 +156,25 @@ std::vector<std::string> collider_warnings(const Model& model, double work_budge
     // Masses that start deep in the contact band are thrown out of it at once (an epsilon as
     // large as the scene, a cloth placed just above a floor): a dice cloth at --epsilon 3 flies
     // 100 m up, a 1 cm cloth with the default 0.1 m band 7 km.
+    const double eps = model.contact.distance;
+    const char* eps_flag = is_seed(model.options) ? "--epsilon" : "--thickness";
     {
       const double g = gravity(model.options).norm();
-      const LaunchCount l = count_launched(set, o, model.x0, model.mass, model.pinned, model.options.epsilon,
-                                           model.options.k_rep, g, 10.0);
+      const LaunchCount l = count_launched(set, o, model.x0, model.mass, model.pinned, eps, model.contact.k_rep, g, 10.0);
       if (l.count > 0) {
         char what[240];
         if (g > 0.0)
           std::snprintf(what, sizeof what,
                         "start within the contact band of collider %s (epsilon %.3g m) and get up to %.3g times their "
                         "weight at once: they will be thrown off; ",
-                        name.c_str(), model.options.epsilon, l.worst);
+                        name.c_str(), eps, l.worst);
         else
           std::snprintf(what, sizeof what,
                         "start within the contact band of collider %s (epsilon %.3g m) and get up to %.3g N at once, "
                         "with no gravity to hold them: they will be thrown off; ",
-                        name.c_str(), model.options.epsilon, l.worst_push);
+                        name.c_str(), eps, l.worst_push);
         out.push_back("warning: " + std::to_string(l.count) + " of " + std::to_string(model.mass_count()) +
-                      " masses " + what + "start the cloth farther than epsilon from it, or use a smaller --epsilon");
+                      " masses " + what + "start the cloth farther than epsilon from it, or use a smaller " + eps_flag);
       }
     }
     // An open collider (a floor, a plate) pushes only towards its front. Masses that start
@@ -181,9 +182,9 @@ std::vector<std::string> collider_warnings(const Model& model, double work_budge
     // within its band, shot out to its front at once (a floor whose normals point down, a
     // cloth placed just under a floor).
     if (!solid_of(parts).closed) {
-      const BehindCount b = count_behind(set, o, model.x0, model.options.epsilon);
+      const BehindCount b = count_behind(set, o, model.x0, eps);
       char band[96];
-      std::snprintf(band, sizeof band, "%.3g m", 2.0 * model.options.epsilon);
+      std::snprintf(band, sizeof band, "%.3g m", 2.0 * eps);
       if (b.in_band > 0)
         out.push_back("warning: " + std::to_string(b.in_band) + " of " + std::to_string(model.mass_count()) +
                       " masses start behind collider " + name + " within its contact band (" + band +

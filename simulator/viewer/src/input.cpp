@@ -118,7 +118,7 @@ void Viewer::on_button(int button, int action, int mods) {
       mode_ = Mouse::Drag;
       drag_depth_ = (ray.origin + pick.t * ray.dir - camera_.eye()).dot(camera_.forward());
       state_.drag.mass = pick.mass;
-      state_.drag.k = model_.options.k_struct;  // as stiff as one cloth spring: stable at dt
+      state_.drag.k = pull_stiffness(model_, static_cast<std::size_t>(pick.mass), h());
       state_.drag.reach = drag_reach_;          // a far target pulls like one two springs away
       update_drag_target();
     } else {

@@ -12,6 +12,7 @@
 #include <clothsim/options.hpp>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -145,6 +146,12 @@ struct StepStatus {
 
 /// The state at t = 0: x = x0, v = 0.
 State make_state(const Model& model);
+
+/// N/m, the stiffness of a user's pull on mass i (Drag::k): one structural spring's modulus,
+/// at most a quarter of m_i / h^2, so that the explicit pull stays stable at the step h.
+inline double pull_stiffness(const Model& m, std::size_t i, double h) {
+  return std::min(m.spring_modulus[0], 0.25 * m.mass[static_cast<Eigen::Index>(i)] / (h * h));
+}
 
 /// Advances `state` by one step of h = model.options.dt / ws.substeps with
 /// model.options.integrator, on ws.threads threads. Never allocates.
