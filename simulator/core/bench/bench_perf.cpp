@@ -212,9 +212,13 @@ void BM_Step(benchmark::State& st) {
   per_spring(st, m);
 }
 
+// The skirt in the seed's per-vertex model (its weight per mass at real gravity, symplectic
+// Euler, dt 2 ms: docs/physics.md), the 2016 program's scene and method.
 void BM_SkirtStep(benchmark::State& st) {
   const auto& scene = b2o::gen::skirt::scene;
-  const Model m = build_model(scene, scene_options(scene));
+  Options o;
+  o.material = Material::Seed, o.mass = 0.0102, o.damping = 0.03, o.dt = 0.002;
+  const Model m = build_model(scene, resolve_options(o, true));
   State s = make_state(m);
   Workspace ws = make_workspace(m);
   // The mean over whole 20 s runs (fall, wrap, slide, rest), as the headless summary measures

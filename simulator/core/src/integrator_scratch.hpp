@@ -4,6 +4,8 @@
 
 #include <clothsim/integrators.hpp>
 
+#include "spring_colouring.hpp"
+
 #include <Eigen/Core>
 #include <Eigen/SparseCholesky>
 #include <vector>
@@ -24,17 +26,8 @@ struct IntegratorScratch {
   int free_count = 0;
   Eigen::Matrix3Xd d, y, fext;            ///< (3 x s) spring directions; (3 x n) inertia target
   Eigen::MatrixXd b, sol;                 ///< (free x 3)
-  // XPBD: each kind's springs by colour (no two springs of a colour share a mass), packed in
-  // colour order and made on first use; springs that cannot move (both ends pinned, k 0) left out
-  struct Link {
-    std::uint32_t a, b;
-    double rest, k;  ///< m, N/m
-  };
-  struct Colouring {
-    std::vector<std::uint32_t> start;  ///< (colours + 1) the last colour may share masses
-    std::vector<Link> links;
-  };
-  Colouring structural, bend;
+  // XPBD: each kind's springs by colour, made on first use
+  detail::Colouring structural, bend;
   ImplicitSettings settings;
   ImplicitStats stats;
 };
