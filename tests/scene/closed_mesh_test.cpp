@@ -194,7 +194,9 @@ TEST(ColliderWarnings, MassesBehindAnOpenColliderAreNamed) {
     Model m;
     m.x0.resize(3, static_cast<Eigen::Index>(masses.size()));
     for (std::size_t i = 0; i < masses.size(); ++i) m.x0.col(static_cast<Eigen::Index>(i)) = masses[i];
+    m.options.material = Material::Seed;
     m.options.epsilon = 0.1;
+    m.contact.distance = 0.1;  // (as the builder sets it from epsilon)
     m.colliders = set;
     return m;
   };
@@ -219,8 +221,10 @@ TEST(ColliderWarnings, MassesBehindAnOpenColliderAreNamed) {
 TEST(ColliderWarnings, MassesThrownOutOfTheContactBandAreNamed) {
   const std::shared_ptr<ColliderSet> set = test::floor_collider();  // y = 0, normals up
   Model m;
+  m.options.material = Material::Seed;
   m.options.epsilon = 0.1;
   m.options.k_rep = 600.0;
+  m.contact.distance = 0.1, m.contact.k_rep = 600.0;  // (as the builder sets them)
   const double rest = 0.1 - 0.1 * 9.81 / 600.0;  // eps - m g / k_rep
   m.x0.resize(3, 5);
   m.x0 << 0, 0.1, 0.2, 0.3, 0.4,  //
