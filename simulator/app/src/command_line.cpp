@@ -287,7 +287,8 @@ Parsed parse_command_line(int argc, char** argv, const b2o::Scene& scene) {
   c.unknown_params = baked.unknown;
 
   CLI::App app{std::string("clothsim: mass-spring cloth simulation of the baked scene '") + scene.name +
-               "' (symplectic Euler, report eqs. 1-7; penalty contacts, eq. 12)"};
+               "': a cloth material (cotton unless the scene or --material says otherwise) stepped by XPBD, "
+               "or the 2016 program's per-vertex model (--material seed) by symplectic Euler"};
   // (the usage line names the program as it was started)
   app.name(argc > 0 && argv[0] ? std::filesystem::path(argv[0]).filename().string() : std::string("clothsim"));
   app.set_version_flag("--version", std::string("clothsim ") + CLOTHSIM_VERSION + " (scene " + scene.name + ")");
