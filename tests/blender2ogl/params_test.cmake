@@ -9,16 +9,19 @@ if(NOT DEFINED MODULE OR NOT DEFINED WORK OR NOT DEFINED CHECK)
 endif()
 file(MAKE_DIRECTORY "${WORK}")
 
-# `checker`: the command set as BLENDER2OGL_PARAMS_CHECK ("" for none)
-function(expect_with checker params want)
+# Runs `call` (a blender2ogl_add_scene line) in a child cmake with `checker` as
+# BLENDER2OGL_PARAMS_CHECK ("" for none); it must fail with a message matching `want`.
+function(expect_failure checker call want)
   file(WRITE "${WORK}/case.cmake"
-       "set_property(GLOBAL PROPERTY BLENDER2OGL_PARAMS_CHECK \"${checker}\")\ninclude(\"${MODULE}\")\n"
-       "blender2ogl_add_scene(flag OBJ \"${WORK}/absent.obj\" PARAMS ${params})\n")
+       "set_property(GLOBAL PROPERTY BLENDER2OGL_PARAMS_CHECK \"${checker}\")\ninclude(\"${MODULE}\")\n${call}\n")
   execute_process(COMMAND ${CMAKE_COMMAND} -P "${WORK}/case.cmake" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   string(REGEX REPLACE "[ \t\r\n]+" " " text "${out}${err}")  # (CMake wraps long messages)
   if(rc EQUAL 0 OR NOT text MATCHES "${want}")
-    message(FATAL_ERROR "PARAMS ${params}: expected a failure matching '${want}' (${rc}):\n${out}${err}")
+    message(FATAL_ERROR "${call}: expected a failure matching '${want}' (${rc}):\n${out}${err}")
   endif()
+endfunction()
+function(expect_with checker params want)
+  expect_failure("${checker}" "blender2ogl_add_scene(flag OBJ \"${WORK}/absent.obj\" PARAMS ${params})" "${want}")
 endfunction()
 function(expect params want)
   expect_with("${CHECK}" "${params}" "${want}")
@@ -55,25 +58,13 @@ expect("mass=0.01 density=0.1" "density belongs to a material's cloth \\(the see
 expect("friction=0.3 static_friction=0.1" "static_friction must be at least friction \\(got 0.1 < 0.3\\)")
 # friction on a scene whose objects are all cloth: nothing to rub against
 file(WRITE "${WORK}/alone.obj" "o Sheet\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
-file(WRITE "${WORK}/case.cmake"
-     "set_property(GLOBAL PROPERTY BLENDER2OGL_PARAMS_CHECK \"${CHECK}\")\ninclude(\"${MODULE}\")\n"
-     "blender2ogl_add_scene(alone OBJ \"${WORK}/alone.obj\" CLOTH Sheet PARAMS friction=0.3)\n")
-execute_process(COMMAND ${CMAKE_COMMAND} -P "${WORK}/case.cmake" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-string(REGEX REPLACE "[ \t\r\n]+" " " text "${out}${err}")
-if(rc EQUAL 0 OR NOT text MATCHES "blender2ogl_add_scene\\(alone\\): bad PARAMS: 'friction=0.3': the scene has no colliders")
-  message(FATAL_ERROR "friction without colliders: expected the configure to stop (${rc}):\n${out}${err}")
-endif()
+expect_failure("${CHECK}" "blender2ogl_add_scene(alone OBJ \"${WORK}/alone.obj\" CLOTH Sheet PARAMS friction=0.3)"
+               "blender2ogl_add_scene\\(alone\\): bad PARAMS: 'friction=0.3': the scene has no colliders")
 # without a checker the converter takes any key (it knows none)
 expect_with("" "camera=5 look=far" "${passes}")
 # names the converter would refuse or that would clash: stopped at configure time
 function(expect_name name want)
-  file(WRITE "${WORK}/case.cmake"
-       "include(\"${MODULE}\")\nblender2ogl_add_scene(${name} OBJ \"${WORK}/absent.obj\")\n")
-  execute_process(COMMAND ${CMAKE_COMMAND} -P "${WORK}/case.cmake" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  string(REGEX REPLACE "[ \t\r\n]+" " " text "${out}${err}")
-  if(rc EQUAL 0 OR NOT text MATCHES "${want}")
-    message(FATAL_ERROR "name ${name}: expected a failure matching '${want}' (${rc}):\n${out}${err}")
-  endif()
+  expect_failure("" "blender2ogl_add_scene(${name} OBJ \"${WORK}/absent.obj\")" "${want}")
 endfunction()
 expect_name("flag_" "the name must be a C\\+\\+ identifier")
 expect_name("a__b" "the name must be a C\\+\\+ identifier")
