@@ -635,13 +635,8 @@ TEST(Cli, ViewerOptionsThatWouldDoNothingAreBadInput) {
 // landed (the hanging cloth: two corners, from its Cloth_pins helper).
 TEST(Cli, ReportCountsThePinnedMasses) {
   const fs::path d = fresh_dir("report_pins");
-  const std::string cmd = std::string(CLOTHSIM_HANGING_EXE) + " --headless --quiet --steps 2 --report '" +
-                          (d / "r.json").string() + "' 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  ASSERT_NE(p, nullptr);
-  char buf[256];
-  while (std::fgets(buf, sizeof buf, p)) {}
-  ASSERT_EQ(pclose(p), 0);
+  const Result r = run_program(CLOTHSIM_HANGING_EXE, "--headless --quiet --steps 2 --report " + q(d / "r.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
   const auto j = read_json(d / "r.json");
   EXPECT_EQ(j["scene"], "hanging");
   EXPECT_EQ(j["pinned_masses"], 2);
@@ -651,17 +646,10 @@ TEST(Cli, ReportCountsThePinnedMasses) {
 // the scene, exit 2, nothing written.
 TEST(Cli, FrictionWithoutCollidersIsRefused) {
   const fs::path d = fresh_dir("friction_alone");
-  const std::string cmd = std::string(CLOTHSIM_HANGING_EXE) + " --headless --quiet --steps 2 --friction 0.3 --report '" +
-                          (d / "r.json").string() + "' 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  ASSERT_NE(p, nullptr);
-  std::string out;
-  char buf[256];
-  while (std::fgets(buf, sizeof buf, p)) out += buf;
-  const int status = pclose(p);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 2) << out;
-  EXPECT_NE(out.find("--friction: scene 'hanging' has no colliders"), std::string::npos) << out;
+  const Result r =
+      run_program(CLOTHSIM_HANGING_EXE, "--headless --quiet --steps 2 --friction 0.3 --report " + q(d / "r.json"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("--friction: scene 'hanging' has no colliders"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::is_empty(d));
 }
 #endif
