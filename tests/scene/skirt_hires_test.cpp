@@ -2,7 +2,6 @@
 // material line and nothing scaled by hand; it must weigh, drape and behave as the skirt does.
 #include "skirt_behaviour.hpp"
 
-
 #include <gtest/gtest.h>
 #include <skirt.h>
 
