@@ -37,6 +37,8 @@ constexpr std::string_view kMaterialNames[] = {
     "seed",
 };
 
+constexpr std::string_view kSwitchNames[] = {"auto", "off", "on"};
+
 // The names of a choice type ("auto" first) and its parser.
 template <class T>
 struct Choices;
@@ -57,6 +59,17 @@ struct Choices<Material> {
     return std::nullopt;
   }
   static std::string_view label(Material v) { return kMaterialNames[static_cast<std::size_t>(v)]; }
+};
+
+template <>
+struct Choices<Switch> {
+  static std::span<const std::string_view> names() { return kSwitchNames; }
+  static std::optional<Switch> parse(std::string_view text) {
+    for (std::size_t i = 0; i < std::size(kSwitchNames); ++i)
+      if (text == kSwitchNames[i]) return static_cast<Switch>(i);
+    return std::nullopt;
+  }
+  static std::string_view label(Switch v) { return kSwitchNames[static_cast<std::size_t>(v)]; }
 };
 
 std::string joined(std::span<const std::string_view> names) {
@@ -257,6 +270,7 @@ Options resolve_options(Options o, bool seed_given) {
   // static friction at least the kinetic one (given alone, friction sets both)
   if (std::isnan(o.static_friction) || o.static_friction < o.friction) o.static_friction = o.friction;
   if (o.integrator == Integrator::Auto) o.integrator = seed ? Integrator::SymplecticEuler : Integrator::XPBD;
+  if (o.self_collision == Switch::Auto) o.self_collision = seed ? Switch::Off : Switch::On;
   return o;
 }
 

@@ -3,6 +3,7 @@
 // shares of springs and collision runs) and once for the scratch of an integrator other than
 // symplectic Euler.
 #include "parallel.hpp"
+#include "self_contact.hpp"
 #include "spring_split.hpp"
 #include "stages.hpp"
 
@@ -30,6 +31,7 @@ Workspace make_workspace(const Model& model) {
     if (model.pinned[i]) ws.pinned_index.push_back(static_cast<std::uint32_t>(i));
   ws.pinned_x = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(ws.pinned_index.size()));
   ws.collision = detail::make_collision_scratch(model);
+  ws.self = detail::make_self_scratch(model);
   if (model.air > 0.0) detail::make_air_scratch(model, ws);
   const bool friction = model.contact.friction > 0.0 || model.contact.static_friction > 0.0;
   if (friction && model.colliders && model.options.integrator != Integrator::XPBD)
@@ -79,6 +81,7 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
   const bool first = state.steps % per == 0, last = (state.steps + 1) % per == 0;
   const bool air = model.air > 0.0;
   if (air && first) air_drag(model, state, ws, 0.5 * model.options.dt);
+  if (ws.self) self_contact_begin(model, state, ws);
   switch (method) {
     case Integrator::SymplecticEuler: symplectic_euler(model, state, ws, h, checked, finite); break;
     case Integrator::ExplicitEuler: explicit_euler(model, state, ws, h); break;
@@ -93,6 +96,7 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
   if (method != Integrator::XPBD) apply_friction(model, state, ws, h);  // (XPBD's is in its contact)
   if (air && last) air_drag(model, state, ws, 0.5 * model.options.dt);
   if (last) limit_strain(model, state, ws);
+  if (ws.self) self_contact_end(model, state, ws, h);
   restore_pins(state, ws);
   state.t += h;
   ++state.steps;

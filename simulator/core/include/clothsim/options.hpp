@@ -50,7 +50,10 @@
   REAL(gravity_y, -9.81, Finite, "m/s^2", Any, "", "Gravity, y component (Blender's OBJ export is Y up)")\
   REAL(gravity_z, 0.0, Finite, "m/s^2", Any, "", "Gravity, z component")                                 \
   CHOICE(integrator, Integrator, Auto, Any, "",                                                          \
-         "Time integrator (auto: xpbd for a material, symplectic-euler for the seed model)")
+         "Time integrator (auto: xpbd for a material, symplectic-euler for the seed model)")              \
+  CHOICE(self_collision, Switch, Auto, Any, "",                                                          \
+         "Contact of the cloths with themselves and each other, no layer passing through another "        \
+         "(auto: on for a material, off for the seed model)")
 
 // The time integrators, the seed's first: I(enumerator, name, order, force evaluations per
 // step, what it is). integrators.hpp says more about each.
@@ -73,6 +76,9 @@ enum class Integrator : std::uint8_t {
   CLOTHSIM_INTEGRATORS(CLOTHSIM_ENUMERATOR)
 #undef CLOTHSIM_ENUMERATOR
 };
+
+/// A feature that is on or off; Auto is decided when the Model is built (resolve_options()).
+enum class Switch : std::uint8_t { Auto, Off, On };
 
 /// The default of an option the material or the simulator fills in ("auto").
 inline constexpr double kAuto = __builtin_nan("");
@@ -145,7 +151,8 @@ struct ModelMismatch : std::invalid_argument {
 /// `seed_given` (an option of the seed group was given); every auto Material-group quantity
 /// and friction take the preset's values (friction 0 for the seed model, as in 2016; a friction
 /// given alone keeps the preset's static-to-kinetic ratio, and static friction is at least the
-/// kinetic one); an auto integrator is XPBD for a material and symplectic Euler for the seed model. Throws
+/// kinetic one); an auto integrator is XPBD for a material and symplectic Euler for the seed model; auto
+/// self-collision is on for a material and off for the seed model. Throws
 /// ModelMismatch when an option of one model is set (not auto, not its default) for the
 /// other: its message names the option and the model that takes it.
 Options resolve_options(Options options, bool seed_given);

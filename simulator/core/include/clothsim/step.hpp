@@ -11,6 +11,7 @@ namespace clothsim {
 
 namespace detail {
 struct CollisionScratch;
+struct SelfScratch;
 struct SpringSplit;
 }  // namespace detail
 struct IntegratorScratch;
@@ -57,6 +58,9 @@ struct Workspace {
   /// made by make_workspace when the model has colliders. Copies of the Workspace share it
   /// (results stay exact); do not step two copies at the same time.
   std::shared_ptr<detail::CollisionScratch> collision;
+  /// The self-contact stage's memory between steps (its pairs, bounds and trees), made by
+  /// make_workspace when the model has self-collision on; shared by copies like `collision`.
+  std::shared_ptr<detail::SelfScratch> self;
   /// (3 x n) the contact forces of the last force stage, apart, for the friction of the
   /// force-based integrators (empty without friction or colliders, or for XPBD).
   Eigen::Matrix3Xd contact_f;

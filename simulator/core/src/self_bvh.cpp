@@ -1,0 +1,86 @@
+// The self-contact BVH: median splits along the longest axis of the centroids, leaves of up
+// to four primitives, nodes in depth-first order so that a refit runs backwards once.
+#include "self_bvh.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace clothsim::detail {
+
+namespace {
+
+constexpr std::uint32_t kLeaf = 4;
+
+struct Builder {
+  SelfBvh& t;
+  const double* x;
+  std::vector<std::array<double, 3>> centre;
+
+  std::uint32_t node(std::uint32_t first, std::uint32_t count, int depth) {
+    const auto self = static_cast<std::uint32_t>(t.nodes.size());
+    t.nodes.push_back({});
+    if (count <= kLeaf || depth >= 60) {
+      t.nodes[self].first = first, t.nodes[self].count = count;
+      return self;
+    }
+    std::array<double, 3> lo, hi;
+    lo.fill(std::numeric_limits<double>::infinity()), hi.fill(-std::numeric_limits<double>::infinity());
+    for (std::uint32_t i = first; i < first + count; ++i)
+      for (int a = 0; a < 3; ++a)
+        lo[a] = std::min(lo[a], centre[t.order[i]][a]), hi[a] = std::max(hi[a], centre[t.order[i]][a]);
+    int axis = 0;
+    for (int a = 1; a < 3; ++a)
+      if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+    const std::uint32_t half = count / 2;
+    auto* b = t.order.data() + first;
+    std::nth_element(b, b + half, b + count, [&](std::uint32_t p, std::uint32_t q) {
+      return centre[p][axis] < centre[q][axis] || (centre[p][axis] == centre[q][axis] && p < q);
+    });
+    node(first, half, depth + 1);
+    const std::uint32_t right = node(first + half, count - half, depth + 1);
+    t.nodes[self].next = right;
+    return self;
+  }
+};
+
+}  // namespace
+
+void SelfBvh::build(const double* x, std::span<const std::uint32_t> prim_corners, int corners_per_prim) {
+  corners = prim_corners;
+  k = corners_per_prim;
+  const std::size_t n = corners.size() / static_cast<std::size_t>(k);
+  nodes.clear();
+  order.resize(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
+  Builder b{*this, x, std::vector<std::array<double, 3>>(n)};
+  for (std::size_t p = 0; p < n; ++p)
+    for (int a = 0; a < 3; ++a) {
+      double s = 0.0;
+      for (int c = 0; c < k; ++c) s += x[3 * std::size_t{corners[p * static_cast<std::size_t>(k) + static_cast<std::size_t>(c)]} + static_cast<std::size_t>(a)];
+      b.centre[p][static_cast<std::size_t>(a)] = s / k;
+    }
+  nodes.reserve(2 * n / kLeaf + 2);
+  if (n > 0) b.node(0, static_cast<std::uint32_t>(n), 0);
+  refit(x);
+}
+
+void SelfBvh::refit(const double* x) {
+  const auto kk = static_cast<std::size_t>(k);
+  for (std::size_t i = nodes.size(); i-- > 0;) {
+    Node& nd = nodes[i];
+    if (nd.count > 0) {
+      nd.lo.fill(std::numeric_limits<double>::infinity()), nd.hi.fill(-std::numeric_limits<double>::infinity());
+      for (std::uint32_t j = nd.first; j < nd.first + nd.count; ++j)
+        for (std::size_t c = 0; c < kk; ++c) {
+          const double* p = x + 3 * std::size_t{corners[order[j] * kk + c]};
+          for (int a = 0; a < 3; ++a) nd.lo[a] = std::min(nd.lo[a], p[a]), nd.hi[a] = std::max(nd.hi[a], p[a]);
+        }
+    } else {
+      const Node& l = nodes[i + 1];
+      const Node& r = nodes[nd.next];
+      for (int a = 0; a < 3; ++a) nd.lo[a] = std::min(l.lo[a], r.lo[a]), nd.hi[a] = std::max(l.hi[a], r.hi[a]);
+    }
+  }
+}
+
+}  // namespace clothsim::detail

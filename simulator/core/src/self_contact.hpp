@@ -1,0 +1,75 @@
+// The self-contact stage (docs/collision.md, "Self-contact"): cloth against cloth, a cloth
+// against itself. Its memory between steps and the two calls step() makes around each
+// integrator step. Private to the core.
+#pragma once
+
+#include "proximity.hpp"
+#include "self_bvh.hpp"
+
+#include <clothsim/step.hpp>
+
+#include <memory>
+#include <vector>
+
+namespace clothsim::detail {
+
+/// Each free mass moves at most this fraction of its distance to the nearest element it is
+/// not part of between two detections (Chen et al. 2024, 2025; Warp uses 0.42): two elements
+/// then close at most 2 * 0.42 of their gap, and never meet.
+inline constexpr double kSelfGamma = 0.42;
+/// The detection looks this many contact distances around each element.
+inline constexpr double kSelfRadius = 4.0;
+
+/// A pair of elements near each other: a mass and a triangle, or two edges. Their gap vector
+/// is sum_i coef[i] x[mass[i]] (the coefficients place the closest points); the stage keeps
+/// it at least `target` long.
+struct SelfPair {
+  std::uint32_t mass[4];
+  double target;  ///< m: the contact distance, or the pair's distance at rest when smaller
+  double gap;     ///< m: the distance at detection
+};
+
+struct SelfScratch {
+  std::vector<std::uint32_t> triangles, edges;  ///< (3 t), (2 e) mass indices; edges once each
+  SelfBvh triangle_tree, edge_tree;
+  std::uint32_t refits = 0;       ///< detections since the trees were last built
+  Eigen::Matrix3Xd xd;            ///< (3 x n) the positions at the last detection
+  Eigen::Matrix3Xd xs, xpre;      ///< (3 x n) at the step's start; before the stage's moves
+  std::vector<double> bound;      ///< (n) m, how far each mass may be from xd (inf: in no face)
+  std::vector<std::uint8_t> in_face;  ///< (n) 1 if the mass is a corner of a face
+  std::vector<SelfPair> vt, ee;   ///< the pairs of the last detection
+  std::vector<std::vector<SelfPair>> found;  ///< per thread, while detecting
+  double distance = 0.0;          ///< m, the contact distance between layers
+  double radius = 0.0;            ///< m, how far a detection looks
+  bool detect = true;             ///< detect before the next step
+  std::uint64_t detections = 0;   ///< over the Workspace's life
+};
+
+/// The gap vector of a pair at positions x: from the closest point of the second element
+/// (a triangle, or an edge) to the first's (a mass, or an edge); it is sum_i coef[i] x[m[i]].
+inline Eigen::Vector3d pair_gap(const Eigen::Matrix3Xd& x, const std::uint32_t m[4], bool vertex_triangle,
+                                double coef[4]) {
+  const auto at = [&](int k) -> Eigen::Vector3d { return x.col(static_cast<Eigen::Index>(m[k])); };
+  if (vertex_triangle) {
+    double w[3];
+    closest_on_triangle(at(0), at(1), at(2), at(3), w);
+    coef[0] = 1.0, coef[1] = -w[0], coef[2] = -w[1], coef[3] = -w[2];
+  } else {
+    double s = 0.0, t = 0.0;
+    closest_on_segments(at(0), at(1), at(2), at(3), s, t);
+    coef[0] = 1.0 - s, coef[1] = s, coef[2] = t - 1.0, coef[3] = -t;
+  }
+  return coef[0] * at(0) + coef[1] * at(1) + coef[2] * at(2) + coef[3] * at(3);
+}
+
+/// The stage's memory for a model with self-collision on and faces (else nullptr).
+std::shared_ptr<SelfScratch> make_self_scratch(const Model& model);
+
+/// Before the integrator: detects when the last step asked for it, keeps the start positions.
+void self_contact_begin(const Model& model, const State& state, Workspace& ws);
+/// After the integrator (and strain limiting): pushes close pairs apart to the contact
+/// distance with Coulomb friction, then holds every mass within its bound; the velocities
+/// take the moves over h.
+void self_contact_end(const Model& model, State& state, Workspace& ws, double h);
+
+}  // namespace clothsim::detail
