@@ -37,7 +37,7 @@ TEST(TwistScene, EdgesTurnToTheClosedFormAngleAndTheClothFollows) {
         centre + std::cos(angle) * r + std::sin(angle) * u.cross(r) + (1.0 - std::cos(angle)) * u.dot(r) * u;
     EXPECT_LT((s.x.col(p) - want).norm(), 1e-9) << "pin " << p;
   }
-  // within reach: every mass is closer to a pin than 1.15 times its rest distance to the
+  // within reach: every mass is closer to a pin than 1.3 times its rest distance to the
   // nearest pin (its edge: the cloth's strain limit and long-range attachments hold it), and
   // none passes beyond the pinned edges
   double worst = 0.0;
@@ -48,7 +48,7 @@ TEST(TwistScene, EdgesTurnToTheClosedFormAngleAndTheClothFollows) {
       rest = std::min(rest, (m.x0.col(i) - m.x0.col(p)).norm());
     }
     if (rest > 0.0) worst = std::max(worst, now / rest);
-    EXPECT_LE(now, 1.15 * rest + 0.01) << "mass " << i << " is out of its pins' reach";
+    EXPECT_LE(now, 1.3 * rest + 0.01) << "mass " << i << " is out of its pins' reach";
     EXPECT_LE(std::abs(s.x(0, i) - centre.x()), 0.5 + 0.01) << "mass " << i << " beyond the edges";
   }
   std::cout << "twist: farthest from its pins " << worst << " x its rest distance; max strain "
