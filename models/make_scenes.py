@@ -5,6 +5,7 @@ Run headless (Blender 3.4, factory settings, no .blend file involved):
     blender -b --factory-startup -P models/make_scenes.py -- [--out DIR] [SCENE ...]
 
 SCENE is any of: skirt dice hanging skirt_hires tablecloth tablecloth_fine drape
+twist heap two_cloths
 (default: all). Each scene goes
 to DIR/<scene>/<scene>.obj + .mtl + its PNG textures (DIR defaults to the folder
 of this script). The textures are drawn here by a tiny PNG writer, so nothing is
@@ -533,6 +534,146 @@ def build_drape(out_dir, name):
 
 
 # --------------------------------------------------------------------------- #
+# self-contact stress scenes: a twisted square, a strip that heaps, two cloths
+# --------------------------------------------------------------------------- #
+
+TWIST_SIZE = 1.0
+TWIST_N = 40              # quads a side: 2.5 cm
+TWIST_Y = 1.0
+
+
+def build_twist(out_dir, name):
+    """A square cloth whose two opposite edges (x = -0.5 and x = +0.5) are pinned;
+    the scene's pin_spin turns them in opposite senses about the x axis."""
+    fresh_scene()
+    os.makedirs(out_dir, exist_ok=True)
+    cloth_png = os.path.join(out_dir, "twist_checker.png")
+    checker_texture(cloth_png, 10, 10, 16, (200, 50, 60), (240, 236, 222))
+
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    grid(bm, uv, TWIST_N, TWIST_SIZE, (0.0, TWIST_Y, 0.0), triangulate=True)
+    new_object("Cloth", bm, make_material("TwistChecker", (0.8, 0.25, 0.3), cloth_png),
+               smooth=True)
+
+    # Along each pinned edge a strip PIN_SIZE wide: one vertex on every edge vertex
+    # of the cloth and one PIN_SIZE inwards, whose nearest cloth mass is the same
+    # edge vertex (the grid spacing is 2.5 cm).
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    h = TWIST_SIZE / 2
+    for edge_x in (-h, h):
+        inner = edge_x - PIN_SIZE if edge_x > 0 else edge_x + PIN_SIZE
+        xa, xb = min(edge_x, inner), max(edge_x, inner)
+        zs = [h - TWIST_SIZE * k / TWIST_N for k in range(TWIST_N + 1)]  # decreasing z
+        left = [bm.verts.new(B(xa, TWIST_Y, z)) for z in zs]
+        right = [bm.verts.new(B(xb, TWIST_Y, z)) for z in zs]
+        for k in range(TWIST_N):
+            # the grid's winding: (xa, z_k), (xb, z_k), (xb, z_k+1), (xa, z_k+1) faces up
+            f = bm.faces.new([left[k], right[k], right[k + 1], left[k + 1]])
+            for loop, c in zip(f.loops, [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]):
+                loop[uv].uv = c
+    new_object("Cloth_pins", bm, make_material("PinMarker", (0.9, 0.1, 0.1)), smooth=False)
+    return export(out_dir, name)
+
+
+HEAP_WIDTH = 0.25
+HEAP_LENGTH = 3.0
+HEAP_QUADS = (10, 120)    # across, along: 2.5 cm
+HEAP_BOTTOM = 0.3         # its lower end above the floor
+HEAP_TILT = 10.0          # degrees from vertical, its top towards -z
+HEAP_FLOOR_SIZE = 4.0
+
+
+def build_heap(out_dir, name):
+    """A long strip hanging straight down but for a small tilt, its lower end
+    0.3 m above a floor: let go, it lands end first and folds onto itself."""
+    fresh_scene()
+    os.makedirs(out_dir, exist_ok=True)
+    cloth_png = os.path.join(out_dir, "heap_stripes.png")
+    floor_png = os.path.join(out_dir, "floor_tiles.png")
+    # 2 x 24 checks: 12.5 cm each, so the folds show
+    checker_texture(cloth_png, 2, 24, 16, (40, 140, 90), (238, 236, 220))
+    tiles_texture(floor_png, tiles=8)  # 0.5 m tiles
+
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    na, nl = HEAP_QUADS
+    tilt = math.radians(HEAP_TILT)
+    vs = []
+    for j in range(nl + 1):  # from the lower end up
+        s = HEAP_LENGTH * j / nl
+        vs.append([bm.verts.new(B(-HEAP_WIDTH / 2 + HEAP_WIDTH * i / na,
+                                  HEAP_BOTTOM + s * math.cos(tilt), -s * math.sin(tilt)))
+                   for i in range(na + 1)])
+    for j in range(nl):
+        for i in range(na):
+            corners = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)]
+            f = bm.faces.new([vs[b][a] for a, b in corners])
+            for loop, (a, b) in zip(f.loops, corners):
+                loop[uv].uv = (a / na, b / nl)
+    new_object("Strip", bm, make_material("HeapStripes", (0.2, 0.55, 0.35), cloth_png),
+               smooth=True)
+
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    grid(bm, uv, 4, HEAP_FLOOR_SIZE, (0.0, 0.0, 0.0))
+    new_object("Floor", bm, make_material("FloorTiles", (0.75, 0.73, 0.68), floor_png),
+               smooth=False)
+    return export(out_dir, name)
+
+
+TWO_SIZE = 1.0
+TWO_N = 30                # quads a side
+TWO_LOWER_Y = 0.9
+TWO_UPPER_Y = 1.2         # 0.3 m above the lower cloth, turned 45 degrees about Y
+TWO_BOX = 0.5             # a cube on the floor, its top at y = 0.5
+TWO_FLOOR_SIZE = 4.0
+
+
+def build_two_cloths(out_dir, name):
+    """Two square cloths, one above the other (the upper turned 45 degrees),
+    above a box on a floor: both drape over the box and over each other."""
+    fresh_scene()
+    os.makedirs(out_dir, exist_ok=True)
+    lower_png = os.path.join(out_dir, "lower_checker.png")
+    upper_png = os.path.join(out_dir, "upper_checker.png")
+    floor_png = os.path.join(out_dir, "floor_tiles.png")
+    checker_texture(lower_png, 10, 10, 16, (40, 90, 170), (235, 235, 225))
+    checker_texture(upper_png, 10, 10, 16, (230, 140, 30), (245, 240, 225))
+    tiles_texture(floor_png, tiles=8)  # 0.5 m tiles
+
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    grid(bm, uv, TWO_N, TWO_SIZE, (0.0, TWO_LOWER_Y, 0.0))
+    new_object("LowerCloth", bm, make_material("LowerChecker", (0.2, 0.4, 0.7), lower_png),
+               smooth=True)
+
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    grid(bm, uv, TWO_N, TWO_SIZE, (0.0, 0.0, 0.0))
+    # 45 degrees about the vertical (Blender's z), then up to its height
+    bmesh.ops.rotate(bm, verts=bm.verts[:], cent=B(0.0, 0.0, 0.0),
+                     matrix=Matrix.Rotation(math.radians(45.0), 3, "Z"))
+    bmesh.ops.translate(bm, verts=bm.verts[:], vec=B(0.0, TWO_UPPER_Y, 0.0))
+    new_object("UpperCloth", bm, make_material("UpperChecker", (0.9, 0.55, 0.12), upper_png),
+               smooth=True)
+
+    bm = bmesh.new()
+    bm.loops.layers.uv.new("UVMap")
+    bmesh.ops.create_cube(bm, size=TWO_BOX, matrix=Matrix.Translation(B(0.0, TWO_BOX / 2, 0.0)),
+                          calc_uvs=True)
+    new_object("Box", bm, make_material("BoxGrey", (0.55, 0.56, 0.6), roughness=0.4), smooth=False)
+
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    grid(bm, uv, 4, TWO_FLOOR_SIZE, (0.0, 0.0, 0.0))
+    new_object("Floor", bm, make_material("FloorTiles", (0.75, 0.73, 0.68), floor_png),
+               smooth=False)
+    return export(out_dir, name)
+
+
+# --------------------------------------------------------------------------- #
 # export and check
 # --------------------------------------------------------------------------- #
 
@@ -725,6 +866,48 @@ def verify(scene, objects):
         h = DRAPE_CLOTH_SIZE / 2
         assert all(near(c, -h) for c in (lo[0], lo[2])) and all(near(c, h) for c in (hi[0], hi[2]))
         check_flat_up(objects, "Floor", 0.0)
+    elif scene == "twist":
+        assert set(objects) == {"Cloth", "Cloth_pins"}, sorted(objects)
+        n = TWIST_N
+        assert len(objects["Cloth"]["v"]) == (n + 1) ** 2
+        assert objects["Cloth"]["sizes"] == {3: 2 * n * n}, objects["Cloth"]["sizes"]
+        check_flat_up(objects, "Cloth", TWIST_Y)
+        check_flat_up(objects, "Cloth_pins", TWIST_Y)
+        h = TWIST_SIZE / 2
+        cloth = objects["Cloth"]["v"]
+        edge = [v for v in cloth if near(abs(v[0]), h, 1e-6)]
+        assert len(edge) == 2 * (n + 1), len(edge)
+        for p in objects["Cloth_pins"]["v"]:  # nearest cloth vertex: one on a pinned edge
+            nearest = min(cloth, key=lambda v: math.dist(v, p))
+            assert near(abs(nearest[0]), h, 1e-6) and math.dist(nearest, p) < 1e-3, (p, nearest)
+        pinned = {min(range(len(cloth)), key=lambda i: math.dist(cloth[i], p))
+                  for p in objects["Cloth_pins"]["v"]}
+        assert len(pinned) == 2 * (n + 1), len(pinned)  # every edge vertex, none else
+    elif scene == "heap":
+        assert set(objects) == {"Strip", "Floor"}, sorted(objects)
+        na, nl = HEAP_QUADS
+        assert len(objects["Strip"]["v"]) == (na + 1) * (nl + 1)
+        assert objects["Strip"]["sizes"] == {4: na * nl}, objects["Strip"]["sizes"]
+        lo, hi = ext("Strip")
+        assert near(lo[1], HEAP_BOTTOM) and near(hi[0] - lo[0], HEAP_WIDTH), (lo, hi)
+        tilt = math.radians(HEAP_TILT)
+        assert near(hi[1], HEAP_BOTTOM + HEAP_LENGTH * math.cos(tilt)), hi
+        check_flat_up(objects, "Floor", 0.0)
+    elif scene == "two_cloths":
+        assert set(objects) == {"LowerCloth", "UpperCloth", "Box", "Floor"}, sorted(objects)
+        for c, y in (("LowerCloth", TWO_LOWER_Y), ("UpperCloth", TWO_UPPER_Y)):
+            assert len(objects[c]["v"]) == (TWO_N + 1) ** 2
+            assert objects[c]["sizes"] == {4: TWO_N * TWO_N}, objects[c]["sizes"]
+            check_flat_up(objects, c, y)
+        h = TWO_SIZE / 2
+        lo, hi = ext("LowerCloth")
+        assert all(near(c, -h) for c in (lo[0], lo[2])) and all(near(c, h) for c in (hi[0], hi[2]))
+        lo, hi = ext("UpperCloth")  # turned 45 degrees: its corners on the axes
+        assert all(near(c, -h * math.sqrt(2.0)) for c in (lo[0], lo[2])), lo
+        lo, hi = ext("Box")
+        assert near(lo[1], 0.0) and near(hi[1], TWO_BOX) and near(hi[0], TWO_BOX / 2), (lo, hi)
+        check_closed_outward(objects, "Box")
+        check_flat_up(objects, "Floor", 0.0)
 
 
 def main():
@@ -747,6 +930,10 @@ def main():
         # the same table with an 81 x 81 tablecloth
         "tablecloth_fine": lambda d: build_tablecloth(d, "tablecloth_fine", 80),
         "drape": lambda d: build_drape(d, "drape"),
+        # self-contact stress scenes
+        "twist": lambda d: build_twist(d, "twist"),
+        "heap": lambda d: build_heap(d, "heap"),
+        "two_cloths": lambda d: build_two_cloths(d, "two_cloths"),
     }
     scenes = scenes or list(builders)
     for s in scenes:

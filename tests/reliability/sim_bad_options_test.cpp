@@ -39,6 +39,7 @@ TEST(SimBadOptions, RefusedWithExitTwoAndOneLine) {
       {{"--friction", "0.5", "--static-friction", "0.2"}, "static_friction"},
       {{"--mass", "0.01", "--density", "0.1"}, "--density"},
       {{"--steps", "10", "--seconds", "1"}, "seconds"},
+      {{"--pin-spin", "nan"}, "pin-spin"}, {{"--pin-spin", "inf"}, "pin-spin"},
   };
   for (const Bad& b : bad) {
     TempDir work("simbad");

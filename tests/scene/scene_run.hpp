@@ -8,7 +8,9 @@
 #include <blender2ogl/scene_types.h>
 
 #include <Eigen/Geometry>
+#include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -34,6 +36,20 @@ inline bool step_dt(const Model& m, State& s, Workspace& ws) {
   for (int q = 0; q < ws.substeps; ++q)
     if (!step(m, s, ws).finite) return false;
   return true;
+}
+
+/// Runs the model from rest for `seconds` with the planned substeps, checking every step of dt
+/// that the state is finite (a failure stops the run); the state at the end.
+inline State run_for(const Model& m, double seconds) {
+  State s = make_state(m);
+  Workspace ws = planned_workspace(m);
+  const long steps = std::lround(seconds / m.options.dt);
+  for (long i = 1; i <= steps; ++i)
+    if (!step_dt(m, s, ws)) {
+      ADD_FAILURE() << m.scene_name << ": not finite at step " << i;
+      break;
+    }
+  return s;
 }
 
 inline Eigen::Vector3d vertex(const b2o::Scene& s, std::uint32_t v) {

@@ -39,11 +39,11 @@ inline Model grid_model(const Options& o, int w, int h, std::vector<std::uint32_
   return b.build();
 }
 
-/// A 1 m square cloth of n x n points in the XZ plane at y = 0, triangulated (two triangles a
-/// quad), with structural springs on the triangles' edges and bend springs across the quads'
-/// shared edges; pinned at its two corners at z = 0 unless `pinned` is false (its masses and
-/// spring constants come from the areas: a material's cloth).
-inline Model square_cloth(const Options& o, int n, bool pinned = true) {
+/// A 1 m square cloth of n x n points in the XZ plane at y = 0 (point (i, j) is mass j n + i,
+/// at x = i / (n - 1), z = j / (n - 1)), triangulated (two triangles a quad), with structural
+/// springs on the triangles' edges and bend springs across the quads' shared edges; pinned at
+/// `pins` (its masses and spring constants come from the areas: a material's cloth).
+inline Model square_cloth_pinned(const Options& o, int n, const std::vector<std::uint32_t>& pins) {
   Eigen::Matrix3Xd x(3, n * n);
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) x.col(j * n + i) = Eigen::Vector3d(double(i) / (n - 1), 0.0, double(j) / (n - 1));
@@ -63,8 +63,14 @@ inline Model square_cloth(const Options& o, int n, bool pinned = true) {
       if (j + 1 < n) s.push_back({id(i, j), id(i, j + 1), 0});
     }
   ModelBuilder b(o, "square");
-  b.add_cloth(x, s, pinned ? std::vector<std::uint32_t>{id(0, 0), id(n - 1, 0)} : std::vector<std::uint32_t>{}, t);
+  b.add_cloth(x, s, pins, t);
   return b.build();
+}
+
+/// square_cloth_pinned() pinned at its two corners at z = 0 unless `pinned` is false.
+inline Model square_cloth(const Options& o, int n, bool pinned = true) {
+  const auto last = static_cast<std::uint32_t>(n - 1);
+  return square_cloth_pinned(o, n, pinned ? std::vector<std::uint32_t>{0, last} : std::vector<std::uint32_t>{});
 }
 
 }  // namespace clothsim::test

@@ -3,10 +3,59 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <vector>
 #include <stdexcept>
 
 namespace clothsim {
+
+namespace {
+
+// Pins that turn (Model::pin_origin, pin_axis): the groups of pinned masses (connected along
+// the structural springs, by union-find), each group's centre and its cloth's centre.
+void pin_spin_axes(Model& m) {
+  const std::size_t n = m.mass_count();
+  std::vector<std::uint32_t> root(n);
+  std::iota(root.begin(), root.end(), 0u);
+  const auto find = [&root](std::uint32_t i) {
+    while (root[i] != i) i = root[i] = root[root[i]];
+    return i;
+  };
+  for (std::size_t s = 0; s < m.spring_count(); ++s)
+    if (m.spring_kind[s] == 0 && m.pinned[m.spring_a[s]] && m.pinned[m.spring_b[s]]) {
+      const std::uint32_t a = find(m.spring_a[s]), b = find(m.spring_b[s]);
+      root[std::max(a, b)] = std::min(a, b);
+    }
+  Eigen::Matrix3Xd sum = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(n));
+  std::vector<double> count(n, 0.0);
+  std::vector<Eigen::Index> pins;
+  for (std::size_t i = 0; i < n; ++i)
+    if (m.pinned[i]) {
+      const std::uint32_t r = find(static_cast<std::uint32_t>(i));
+      sum.col(r) += m.x0.col(static_cast<Eigen::Index>(i));
+      count[r] += 1.0;
+      pins.push_back(static_cast<Eigen::Index>(i));
+    }
+  m.pin_origin = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(pins.size()));
+  m.pin_axis = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(pins.size()));
+  for (const ClothRange& c : m.cloths) {
+    if (c.mass_count == 0) continue;
+    const Eigen::Vector3d centre = m.x0.middleCols(c.first_mass, c.mass_count).rowwise().mean();
+    for (std::size_t p = 0; p < pins.size(); ++p) {
+      const auto i = static_cast<std::uint32_t>(pins[p]);
+      if (i < c.first_mass || i - c.first_mass >= c.mass_count) continue;
+      const std::uint32_t r = find(i);
+      const Eigen::Vector3d out = sum.col(r) / count[r] - centre;
+      const double len = out.norm();
+      const auto q = static_cast<Eigen::Index>(p);
+      m.pin_origin.col(q) = centre;
+      // (a group centred on its cloth's centre has no outward axis: it stays put)
+      m.pin_axis.col(q) = len > 1e-9 ? Eigen::Vector3d(out / len) : Eigen::Vector3d::Zero();
+    }
+  }
+}
+
+}  // namespace
 
 ModelBuilder::ModelBuilder(const Options& options, std::string scene_name) {
   model_.options = options;
@@ -104,6 +153,7 @@ Model ModelBuilder::build() {
     if (m.strain_limit > 0.0 && std::count(m.pinned.begin(), m.pinned.end(), std::uint8_t{1}) > 0)
       long_range_attachments(m);
   }
+  if (o.pin_spin != 0.0 && std::count(m.pinned.begin(), m.pinned.end(), std::uint8_t{1}) > 0) pin_spin_axes(m);
   m.inv_mass.resize(n);
   for (Eigen::Index i = 0; i < n; ++i) m.inv_mass[i] = m.pinned[static_cast<std::size_t>(i)] ? 0.0 : 1.0 / m.mass[i];
   if (!is_seed(o)) m.contact = material_contact(m, o);  // (after the masses: the penalty scales with them)

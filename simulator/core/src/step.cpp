@@ -9,7 +9,10 @@
 
 #include <clothsim/integrators.hpp>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <cmath>
 
 namespace clothsim {
 
@@ -64,6 +67,37 @@ void restore_pins(State& s, const Workspace& ws) {
   }
 }
 
+namespace {
+
+// Pins that turn (Model::pin_axis): each pinned mass at its rest position turned by pin_spin t
+// about its group's axis (Rodrigues), kept in ws.pinned_x; the integrator sees it there at
+// rest (velocity 0, so that no integrator moves it further).
+void turn_pins(const Model& m, State& s, Workspace& ws, double t) {
+  const double angle = m.options.pin_spin * t, c = std::cos(angle), sn = std::sin(angle);
+  for (std::size_t p = 0; p < ws.pinned_index.size(); ++p) {
+    const auto q = static_cast<Eigen::Index>(p);
+    const auto i = static_cast<Eigen::Index>(ws.pinned_index[p]);
+    const Eigen::Vector3d u = m.pin_axis.col(q), r = m.x0.col(i) - m.pin_origin.col(q);
+    if (u.isZero())
+      ws.pinned_x.col(q) = m.x0.col(i);
+    else
+      ws.pinned_x.col(q) = m.pin_origin.col(q) + c * r + sn * u.cross(r) + (1.0 - c) * u.dot(r) * u;
+    s.x.col(i) = ws.pinned_x.col(q);
+    s.v.col(i).setZero();
+  }
+}
+
+// After the step the turning pins move at omega u x (x - origin).
+void spin_pin_velocities(const Model& m, State& s, const Workspace& ws) {
+  for (std::size_t p = 0; p < ws.pinned_index.size(); ++p) {
+    const auto q = static_cast<Eigen::Index>(p);
+    const auto i = static_cast<Eigen::Index>(ws.pinned_index[p]);
+    s.v.col(i) = m.options.pin_spin * m.pin_axis.col(q).cross(s.x.col(i) - m.pin_origin.col(q));
+  }
+}
+
+}  // namespace
+
 StepStatus step(const Model& model, State& state, Workspace& ws) {
   using namespace detail;
   const double h = model.options.dt / ws.substeps;
@@ -73,7 +107,13 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
   if (method != Integrator::SymplecticEuler && !ws.integrator_scratch)
     ws.integrator_scratch = make_integrator_scratch(model);
   bool checked = false, finite = true;
-  save_pins(state, ws);
+  // pins that turn are put where they are at the step's end; others keep their bits
+  const auto turning = static_cast<std::size_t>(model.pin_axis.cols());
+  const bool spin = turning > 0 && turning == ws.pinned_index.size();
+  if (spin)
+    turn_pins(model, state, ws, state.t + h);
+  else
+    save_pins(state, ws);
   // The slow stages run once per dt: the air's drag over half of dt before its first substep
   // and half after its last (exact for any step; the halves keep the split second order),
   // strain limiting after its last.
@@ -98,6 +138,7 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
   if (last) limit_strain(model, state, ws);
   if (ws.self) self_contact_end(model, state, ws, h);
   restore_pins(state, ws);
+  if (spin) spin_pin_velocities(model, state, ws);
   state.t += h;
   ++state.steps;
   state.max_penetration = std::max(state.max_penetration, ws.last_penetration);

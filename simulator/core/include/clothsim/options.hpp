@@ -49,6 +49,8 @@
   REAL(gravity_x, 0.0, Finite, "m/s^2", Any, "", "Gravity, x component")                                 \
   REAL(gravity_y, -9.81, Finite, "m/s^2", Any, "", "Gravity, y component (Blender's OBJ export is Y up)")\
   REAL(gravity_z, 0.0, Finite, "m/s^2", Any, "", "Gravity, z component")                                 \
+  REAL(pin_spin, 0.0, Finite, "rad/s", Any, "",                                                         \
+       "Turn rate of each pin group about the axis from its cloth's centre through it (0: pins stay put)") \
   CHOICE(integrator, Integrator, Auto, Any, "",                                                          \
          "Time integrator (auto: xpbd for a material, symplectic-euler for the seed model)")              \
   CHOICE(self_collision, Switch, Auto, Any, "",                                                          \

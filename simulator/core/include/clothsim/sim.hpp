@@ -99,6 +99,13 @@ struct Model {
   std::vector<float> attach_rest;         ///< (n x kAttachments) m, the distance along the cloth
   static constexpr std::uint32_t kNoPin = 0xffffffffu;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< m/s^2
+  /// Pins that turn (options.pin_spin != 0; empty otherwise): for each pinned mass, in mass
+  /// order, a point on its group's axis (its cloth's centre, the mean of the cloth's rest
+  /// positions) and the unit axis from there through its group's centre (a group is a connected
+  /// set of pinned masses along the structural springs). step() turns the mass's rest position
+  /// about that axis by pin_spin t, right-handed; a group centred on its cloth's centre has no
+  /// axis (zero here) and stays put.
+  Eigen::Matrix3Xd pin_origin, pin_axis;
 
   ContactParams contact;
   std::vector<ClothRange> cloths;        ///< masses/springs grouped by cloth object
@@ -117,7 +124,8 @@ struct Model {
   double damping_of(std::size_t i) const { return damping + drag * mass[static_cast<Eigen::Index>(i)]; }
   /// The bytes of the per-mass, per-spring and per-face arrays (not the colliders').
   std::size_t bytes() const {
-    const auto doubles = static_cast<std::size_t>(x0.size() + mass.size() + inv_mass.size());
+    const auto doubles = static_cast<std::size_t>(x0.size() + mass.size() + inv_mass.size() + pin_origin.size() +
+                                                  pin_axis.size());
     return sizeof(double) * doubles + pinned.size() + spring_kind.size() +
            sizeof(std::uint32_t) * (spring_a.size() + spring_b.size() + triangles.size() + attach_pin.size()) +
            sizeof(float) * (static_cast<std::size_t>(rest_length0.size()) + spring_scale.size() + attach_rest.size());

@@ -50,7 +50,7 @@ struct Workspace {
   int substeps = 1;                          ///< steps per dt: step() takes h = model.options.dt / substeps
   int threads = 1;                           ///< threads of the force and update loops (same bits for any count)
   Eigen::Matrix3Xd f;                        ///< (3 x n) total force at the current stage, N
-  Eigen::Matrix3Xd pinned_x;                 ///< (3 x p) positions of the pinned masses, saved per step
+  Eigen::Matrix3Xd pinned_x;                 ///< (3 x p) positions of the pinned masses, saved per step (turning pins: at the step's end)
   std::vector<std::uint32_t> pinned_index;   ///< (p) the pinned masses
   std::vector<std::int32_t> contact_hint;    ///< (n x colliders) closest-triangle hints, -1 = none (unused
                                              ///< when `collision` is set)
