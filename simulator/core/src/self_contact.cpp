@@ -48,7 +48,14 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
   sc.xpre = state.x;
   for (const SelfPair& p : sc.vt) separate(model, sc, p, true, state.x);
   for (const SelfPair& p : sc.ee) separate(model, sc, p, false, state.x);
-  // Each free mass within its bound; detect again before a mass can reach it.
+  // Each free mass within its bound of the cloth's common move since the detection (a gap
+  // does not change when everything moves alike); detect again when a mass may reach its
+  // bound in the next step.
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero(), drift = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < model.mass_count(); ++i)
+    if (sc.in_face[i]) shift += state.x.col(static_cast<Eigen::Index>(i)) - sc.xd.col(static_cast<Eigen::Index>(i)),
+                       drift += state.v.col(static_cast<Eigen::Index>(i));
+  shift /= static_cast<double>(sc.faced), drift /= static_cast<double>(sc.faced);
   bool near_bound = false;
   const auto n = static_cast<std::int64_t>(model.mass_count());
   [[maybe_unused]] const int nt = team(ws, model.mass_count());
@@ -56,11 +63,12 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
   for (std::int64_t i = 0; i < n; ++i) {
     const double b = sc.bound[static_cast<std::size_t>(i)];
     if (std::isinf(b)) continue;
-    const Eigen::Vector3d d = state.x.col(i) - sc.xd.col(i);
+    const Eigen::Vector3d d = state.x.col(i) - sc.xd.col(i) - shift;
     const double len = d.norm();
-    if (len > b && model.inv_mass[i] != 0.0) state.x.col(i) = sc.xd.col(i) + (b / len) * d;
-    near_bound = near_bound || len > 0.5 * b;
+    if (len > b && model.inv_mass[i] != 0.0) state.x.col(i) = sc.xd.col(i) + shift + (b / len) * d;
     state.v.col(i) += (state.x.col(i) - sc.xpre.col(i)) / h;
+    const double ahead = kSelfLookAhead * h * (state.v.col(i) - drift).norm();
+    near_bound = near_bound || (state.x.col(i) - sc.xd.col(i) - shift).norm() + ahead > b;
   }
   sc.detect = near_bound;
 }

@@ -14,11 +14,14 @@
 namespace clothsim::detail {
 
 /// Each free mass moves at most this fraction of its distance to the nearest element it is
-/// not part of between two detections (Chen et al. 2024, 2025; Warp uses 0.42): two elements
+/// not part of between two detections, apart from the cloth's common move (Chen et al. 2024, 2025; Warp uses 0.42): two elements
 /// then close at most 2 * 0.42 of their gap, and never meet.
 inline constexpr double kSelfGamma = 0.42;
 /// The detection looks this many contact distances around each element.
-inline constexpr double kSelfRadius = 4.0;
+inline constexpr double kSelfRadius = 6.0;
+/// A detection runs before a step in which a mass moving at its speed times this would
+/// pass its bound.
+inline constexpr double kSelfLookAhead = 1.5;
 
 /// A pair of elements near each other: a mass and a triangle, or two edges. Their gap vector
 /// is sum_i coef[i] x[mass[i]] (the coefficients place the closest points); the stage keeps
@@ -37,6 +40,7 @@ struct SelfScratch {
   Eigen::Matrix3Xd xs, xpre;      ///< (3 x n) at the step's start; before the stage's moves
   std::vector<double> bound;      ///< (n) m, how far each mass may be from xd (inf: in no face)
   std::vector<std::uint8_t> in_face;  ///< (n) 1 if the mass is a corner of a face
+  std::size_t faced = 0;          ///< masses in a face
   std::vector<SelfPair> vt, ee;   ///< the pairs of the last detection
   std::vector<std::vector<SelfPair>> found;  ///< per thread, while detecting
   double distance = 0.0;          ///< m, the contact distance between layers
