@@ -1,6 +1,6 @@
 // Self-crossings of a triangle mesh (clothsim/self_crossings.hpp): weld by position, take each
-// welded edge once, find the triangles near each edge with a BVH over the triangles' boxes,
-// and test the pairs that share no vertex with filtered orientation predicates.
+// welded edge once, pair the leaves of a BVH over the triangles' boxes whose boxes overlap,
+// and test their edges and triangles that share no vertex with filtered orientation predicates.
 #include <clothsim/self_crossings.hpp>
 
 #include <Eigen/Geometry>
@@ -163,14 +163,14 @@ struct Box {
       hi[i] = std::max(hi[i], b.hi[i]);
     }
   }
-  bool overlaps(const Box& b) const {
-    return lo[0] <= b.hi[0] && b.lo[0] <= hi[0] && lo[1] <= b.hi[1] && b.lo[1] <= hi[1] && lo[2] <= b.hi[2] &&
-           b.lo[2] <= hi[2];
+  bool overlaps(const Box& b) const {  // (without branches: half the tests fail, unpredictably)
+    return static_cast<bool>((lo[0] <= b.hi[0]) & (b.lo[0] <= hi[0]) & (lo[1] <= b.hi[1]) & (b.lo[1] <= hi[1]) &
+                             (lo[2] <= b.hi[2]) & (b.lo[2] <= hi[2]));
   }
 };
 
-// A BVH over the triangles' boxes: median split of the centroids on the widest axis, leaves
-// of up to kLeaf triangles. A leaf has count > 0 and its triangles at order[first ..) (their
+// A BVH over the triangles' boxes: the triangles sorted along a Morton curve through their
+// boxes' centres, split in halves of that order down to leaves of up to kLeaf triangles. A leaf has count > 0 and its triangles at order[first ..) (their
 // boxes at leaf_box[first ..)); an inner node's children are `first` and `first + 1`.
 struct Bvh {
   static constexpr std::uint32_t kLeaf = 4;
@@ -178,60 +178,60 @@ struct Bvh {
     Box box;
     std::uint32_t first = 0, count = 0;
   };
-  // A triangle while the tree is built: its box's centre (float: only the split uses it) and
-  // index, moved as one so that the splits read memory in order.
-  struct Item {
-    float c[3];
-    std::uint32_t t;
-  };
   std::vector<Node> nodes;
   std::vector<std::uint32_t> order;
-  std::vector<Box> tri_box, leaf_box;
-  std::vector<Item> items;
+  std::vector<Box> leaf_box;
 
   explicit Bvh(const Welded& w) {
     const auto t = static_cast<std::uint32_t>(w.tris.size());
-    tri_box.resize(t);
-    items.resize(t);
+    std::vector<Box> tri_box(t);
+    Box all;
     for (std::uint32_t i = 0; i < t; ++i) {
       for (std::uint32_t v : w.tris[i]) tri_box[i].add(w.pos[v]);
-      const Box& b = tri_box[i];
-      for (int k = 0; k < 3; ++k) items[i].c[k] = static_cast<float>(0.5 * (b.lo[k] + b.hi[k]));
-      items[i].t = i;
+      all.add(tri_box[i]);
+    }
+    // (Morton code << 32 | triangle), sorted: ties by index, so the order is deterministic
+    std::vector<std::uint64_t> keys(t);
+    for (std::uint32_t i = 0; i < t; ++i) {
+      std::uint64_t code = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double extent = all.hi[k] - all.lo[k];
+        const double centre = 0.5 * (tri_box[i].lo[k] + tri_box[i].hi[k]);
+        const double unit = extent > 0.0 ? (centre - all.lo[k]) / extent : 0.0;
+        code |= spread(static_cast<std::uint32_t>(std::clamp(unit, 0.0, 1.0) * 1023.0)) << k;
+      }
+      keys[i] = code << 32 | i;
+    }
+    std::sort(keys.begin(), keys.end());
+    order.resize(t);
+    leaf_box.resize(t);
+    for (std::uint32_t i = 0; i < t; ++i) {
+      order[i] = static_cast<std::uint32_t>(keys[i]);
+      leaf_box[i] = tri_box[order[i]];
     }
     nodes.reserve(t == 0 ? 1 : 2 * t);
     nodes.emplace_back();
     build(0, 0, t);
-    order.resize(t);
-    leaf_box.resize(t);
-    for (std::uint32_t i = 0; i < t; ++i) {
-      order[i] = items[i].t;
-      leaf_box[i] = tri_box[order[i]];
-    }
+  }
+
+  // 10 bits spread to every third bit.
+  static std::uint64_t spread(std::uint32_t v) {
+    std::uint64_t x = v & 0x3ffu;
+    x = (x | x << 16) & 0x30000ffull;
+    x = (x | x << 8) & 0x300f00full;
+    x = (x | x << 4) & 0x30c30c3ull;
+    x = (x | x << 2) & 0x9249249ull;
+    return x;
   }
 
   void build(std::uint32_t node, std::uint32_t begin, std::uint32_t end) {
     if (end - begin <= kLeaf) {
-      for (std::uint32_t i = begin; i < end; ++i) nodes[node].box.add(tri_box[items[i].t]);
+      for (std::uint32_t i = begin; i < end; ++i) nodes[node].box.add(leaf_box[i]);
       nodes[node].first = begin;
       nodes[node].count = end - begin;
       return;
     }
-    float lo[3] = {items[begin].c[0], items[begin].c[1], items[begin].c[2]}, hi[3] = {lo[0], lo[1], lo[2]};
-    for (std::uint32_t i = begin + 1; i < end; ++i)
-      for (int k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], items[i].c[k]);
-        hi[k] = std::max(hi[k], items[i].c[k]);
-      }
-    int axis = 0;
-    for (int k = 1; k < 3; ++k)
-      if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
     const std::uint32_t mid = begin + (end - begin) / 2;
-    std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
-                     [axis](const Item& a, const Item& b) {
-                       const float ca = a.c[axis], cb = b.c[axis];
-                       return ca < cb || (ca == cb && a.t < b.t);  // (ties by index: deterministic)
-                     });
     const auto left = static_cast<std::uint32_t>(nodes.size());
     nodes[node].first = left;
     nodes.emplace_back();
@@ -241,45 +241,116 @@ struct Bvh {
     nodes[node].box = nodes[left].box;
     nodes[node].box.add(nodes[left + 1].box);
   }
+};
 
-  /// The slots (indices into order and leaf_box) of the triangles whose boxes overlap `b`,
-  /// appended to `out`.
-  void overlapping(const Box& b, std::vector<std::uint32_t>& stack, std::vector<std::uint32_t>& out) const {
-    if (!nodes[0].box.overlaps(b)) return;
-    stack.assign(1, 0);
-    while (!stack.empty()) {  // (nodes on the stack overlap b)
-      const Node& node = nodes[stack.back()];
-      stack.pop_back();
-      if (node.count == 0) {
-        for (std::uint32_t child = node.first; child < node.first + 2; ++child)
-          if (nodes[child].box.overlaps(b)) stack.push_back(child);
-        continue;
+// A triangle near a BVH leaf, gathered so that the leaf's edges test it from one place: its
+// corners, box, first corner a, n = (b - a) x (c - a) and |b - a|_1 |c - a|_1, which bounds
+// n's rounding (a sliver's n can be all rounding).
+struct Near {
+  std::array<std::uint32_t, 3> corner;
+  std::uint32_t t;
+  Box box;
+  Vec a, n;
+  double scale;
+};
+
+// Whether segment pq (welded vertices u, v) crosses the triangle (never when they share a
+// vertex). Ends on one side of the plane by far more than rounding (1e-9 relative) are no
+// crossing without the predicates.
+bool crosses(const Welded& w, std::uint32_t u, std::uint32_t v, const Vec& p, const Vec& q, const Near& t) {
+  const std::array<std::uint32_t, 3>& c = t.corner;
+  if ((c[0] == u) | (c[1] == u) | (c[2] == u) | (c[0] == v) | (c[1] == v) | (c[2] == v)) return false;
+  const Vec pa = p - t.a, qa = q - t.a;
+  const double dp = t.n.dot(pa), dq = t.n.dot(qa);
+  const double tol = 1e-9 * t.scale * (pa.lpNorm<1>() + qa.lpNorm<1>());
+  if ((dp > tol && dq > tol) || (dp < -tol && dq < -tol)) return false;
+  return segment_crosses_triangle(p, q, t.a, w.pos[t.corner[1]], w.pos[t.corner[2]]);
+}
+
+// The tree against itself: every pair of leaves whose boxes overlap, once, and in it the
+// edges of each leaf's triangles (each edge with its lowest triangle) against the other's
+// triangles. An edge's box lies in its triangle's, so every (edge, triangle) pair whose boxes
+// overlap is met in exactly one leaf pair.
+struct SelfQuery {
+  const Welded& w;
+  const Bvh& bvh;
+  CrossingCount& out;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs;  // the triangle pairs, repeated
+  std::vector<Near> tri;                                          // by slot (bvh.order)
+  std::vector<std::uint32_t> group_first, group;  // node n's edges: group[group_first[n] .. [n + 1])
+  std::vector<Box> group_box;
+
+  SelfQuery(const Welded& w_, const Bvh& bvh_, CrossingCount& out_,
+            std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs_)
+      : w(w_), bvh(bvh_), out(out_), pairs(pairs_) {
+    tri.reserve(bvh.order.size());
+    for (std::size_t i = 0; i < bvh.order.size(); ++i) {
+      const std::uint32_t t = bvh.order[i];
+      const auto& c = w.tris[t];
+      const Vec &a = w.pos[c[0]], &b = w.pos[c[1]], &d = w.pos[c[2]];
+      tri.push_back({c, t, bvh.leaf_box[i], a, (b - a).cross(d - a), (b - a).lpNorm<1>() * (d - a).lpNorm<1>()});
+    }
+    group_first.reserve(bvh.nodes.size() + 1);
+    for (const Bvh::Node& node : bvh.nodes) {
+      group_first.push_back(static_cast<std::uint32_t>(group.size()));
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i)  // (a leaf's slots)
+        for (std::uint32_t k = 0; k < 3; ++k) {
+          const std::uint32_t t = bvh.order[i], e = w.tri_edges[3 * t + k];
+          if (w.tri_of_edge[w.edge_first[e]] != t) continue;
+          group.push_back(e);
+          group_box.emplace_back();
+          group_box.back().add(w.pos[w.edges[e][0]]);
+          group_box.back().add(w.pos[w.edges[e][1]]);
+        }
+    }
+    group_first.push_back(static_cast<std::uint32_t>(group.size()));
+  }
+
+  // The edges of leaf a against the triangles of leaf b.
+  void edges_against(std::uint32_t a, std::uint32_t b) {
+    const Bvh::Node& leaf = bvh.nodes[b];
+    for (std::uint32_t g = group_first[a]; g < group_first[a + 1]; ++g) {
+      const std::uint32_t e = group[g], u = w.edges[e][0], v = w.edges[e][1];
+      const Vec &p = w.pos[u], &q = w.pos[v];
+      for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
+        const Near& t = tri[i];
+        if (!t.box.overlaps(group_box[g]) || !crosses(w, u, v, p, q, t)) continue;
+        ++out.crossings;
+        for (std::uint32_t k = w.edge_first[e]; k < w.edge_first[e + 1]; ++k) {
+          const std::uint32_t own = w.tri_of_edge[k];  // (never t: t shares no vertex with the edge)
+          pairs.emplace_back(std::min(own, t.t), std::max(own, t.t));
+        }
       }
-      for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
-        if (leaf_box[i].overlaps(b)) out.push_back(i);
+    }
+  }
+
+  void self(std::uint32_t n) {
+    const Bvh::Node& node = bvh.nodes[n];
+    if (node.count > 0) return edges_against(n, n);
+    self(node.first);
+    self(node.first + 1);
+    between(node.first, node.first + 1);
+  }
+
+  // Two distinct subtrees: split the inner one (both inner: the one with the larger box).
+  void between(std::uint32_t a, std::uint32_t b) {
+    const Bvh::Node &na = bvh.nodes[a], &nb = bvh.nodes[b];
+    if (!na.box.overlaps(nb.box)) return;
+    if (na.count > 0 && nb.count > 0) {
+      edges_against(a, b);
+      edges_against(b, a);
+      return;
+    }
+    const auto size = [](const Box& x) { return x.hi[0] - x.lo[0] + x.hi[1] - x.lo[1] + x.hi[2] - x.lo[2]; };
+    if (nb.count > 0 || (na.count == 0 && size(na.box) >= size(nb.box))) {
+      between(na.first, b);
+      between(na.first + 1, b);
+    } else {
+      between(a, nb.first);
+      between(a, nb.first + 1);
     }
   }
 };
-
-// A triangle's plane for the quick test: n = (b - a) x (c - a) and |b - a|_1 |c - a|_1, which
-// bounds n's rounding (a sliver's n can be all rounding).
-struct Plane {
-  Vec n;
-  double scale = 0.0;
-};
-
-// Whether edge e crosses triangle t (never when they share a vertex). Ends on one side of the
-// plane by far more than rounding (1e-9 relative) are no crossing without the predicates.
-bool crosses(const Welded& w, std::uint32_t e, const std::array<std::uint32_t, 3>& t, const Plane& plane) {
-  const std::uint32_t u = w.edges[e][0], v = w.edges[e][1];
-  for (std::uint32_t c : t)
-    if (c == u || c == v) return false;
-  const Vec &p = w.pos[u], &q = w.pos[v], &a = w.pos[t[0]];
-  const double dp = plane.n.dot(p - a), dq = plane.n.dot(q - a);
-  const double tol = 1e-9 * plane.scale * ((p - a).lpNorm<1>() + (q - a).lpNorm<1>());
-  if ((dp > tol && dq > tol) || (dp < -tol && dq < -tol)) return false;
-  return segment_crosses_triangle(p, q, a, w.pos[t[1]], w.pos[t[2]]);
-}
 
 }  // namespace
 
@@ -298,44 +369,8 @@ CrossingCount count_self_crossings(const Eigen::Matrix3Xd& x, std::span<const st
   CrossingCount out;
   if (w.tris.empty()) return out;
   const Bvh bvh(w);
-  std::vector<Plane> plane(w.tris.size());
-  for (std::size_t t = 0; t < w.tris.size(); ++t) {
-    const Vec &a = w.pos[w.tris[t][0]], &b = w.pos[w.tris[t][1]], &c = w.pos[w.tris[t][2]];
-    plane[t] = {(b - a).cross(c - a), (b - a).lpNorm<1>() * (c - a).lpNorm<1>()};
-  }
-  // Leaf by leaf: the edges of its triangles (each edge with its lowest triangle) against the
-  // triangles near the leaf, one tree walk for them all.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-  std::vector<std::uint32_t> stack, near, group;
-  std::vector<Box> group_box;
-  for (const Bvh::Node& leaf : bvh.nodes) {
-    if (leaf.count == 0) continue;
-    group.clear();
-    group_box.clear();
-    Box all;
-    for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i)
-      for (std::uint32_t k = 0; k < 3; ++k) {
-        const std::uint32_t t = bvh.order[i], e = w.tri_edges[3 * t + k];
-        if (w.tri_of_edge[w.edge_first[e]] != t) continue;
-        group.push_back(e);
-        group_box.emplace_back();
-        group_box.back().add(w.pos[w.edges[e][0]]);
-        group_box.back().add(w.pos[w.edges[e][1]]);
-        all.add(group_box.back());
-      }
-    near.clear();
-    bvh.overlapping(all, stack, near);
-    for (std::size_t g = 0; g < group.size(); ++g)
-      for (std::uint32_t i : near) {
-        const std::uint32_t e = group[g], t = bvh.order[i];
-        if (!bvh.leaf_box[i].overlaps(group_box[g]) || !crosses(w, e, w.tris[t], plane[t])) continue;
-        ++out.crossings;
-        for (std::uint32_t k = w.edge_first[e]; k < w.edge_first[e + 1]; ++k) {
-          const std::uint32_t own = w.tri_of_edge[k];  // (never t: t shares no vertex with the edge)
-          pairs.emplace_back(std::min(own, t), std::max(own, t));
-        }
-      }
-  }
+  SelfQuery(w, bvh, out, pairs).self(0);
   std::sort(pairs.begin(), pairs.end());
   out.triangle_pairs = static_cast<std::size_t>(std::unique(pairs.begin(), pairs.end()) - pairs.begin());
   return out;
