@@ -291,6 +291,8 @@ struct SelfQuery {
       tri.push_back({c, t, bvh.leaf_box[i], a, (b - a).cross(d - a), (b - a).lpNorm<1>() * (d - a).lpNorm<1>()});
     }
     group_first.reserve(bvh.nodes.size() + 1);
+    group.reserve(w.edges.size());
+    group_box.reserve(w.edges.size());
     for (const Bvh::Node& node : bvh.nodes) {
       group_first.push_back(static_cast<std::uint32_t>(group.size()));
       for (std::uint32_t i = node.first; i < node.first + node.count; ++i)  // (a leaf's slots)
@@ -310,6 +312,7 @@ struct SelfQuery {
   void edges_against(std::uint32_t a, std::uint32_t b) {
     const Bvh::Node& leaf = bvh.nodes[b];
     for (std::uint32_t g = group_first[a]; g < group_first[a + 1]; ++g) {
+      if (!group_box[g].overlaps(leaf.box)) continue;
       const std::uint32_t e = group[g], u = w.edges[e][0], v = w.edges[e][1];
       const Vec &p = w.pos[u], &q = w.pos[v];
       for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
