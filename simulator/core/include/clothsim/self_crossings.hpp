@@ -26,7 +26,7 @@ struct CrossingCount {
 /// welded edge once, skips triangles with two welded corners equal, and tests each edge
 /// against the triangles sharing no welded vertex with it (segment_crosses_triangle()). A BVH
 /// over the triangles' boxes, built per call and walked against itself, finds the candidates:
-/// 33 000 triangles take about 30-40 ms on one core. Allocates; deterministic (the count does
+/// 33 000 triangles take 35-50 ms on one core. Allocates; deterministic (the count does
 /// not depend on the order of the triangles). Throws std::invalid_argument when
 /// triangles.size() is no multiple of 3 or an index is out of range.
 CrossingCount count_self_crossings(const Eigen::Matrix3Xd& x, std::span<const std::uint32_t> triangles);
