@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -342,10 +343,13 @@ TEST(Cli, ThreadsAutoOrACountReachTheReport) {
 // docs/scenes.md documents every field the report has, the options' fields too.
 TEST(Cli, EveryReportFieldIsDocumented) {
   const fs::path d = fresh_dir("report_doc");
-  // a blow-up, so that failed_step is there too
-  const Result r = run("--headless --quiet --dt 0.5 --substeps 1 --seconds 1000 --report " + q(d / "r.json"));
+  // a blow-up, so that failed_step is there too, and --check-crossings for its keys
+  const Result r =
+      run("--headless --quiet --dt 0.5 --substeps 1 --seconds 1000 --check-crossings --report " + q(d / "r.json"));
   ASSERT_EQ(r.code, 1) << r.output;
   const auto j = read_json(d / "r.json");
+  EXPECT_TRUE(j["self_crossings"].is_null()) << j["self_crossings"];  // a failed run's state is no mesh
+  EXPECT_TRUE(j.contains("max_self_crossings") && j.contains("max_self_crossings_t"));
   const std::string doc = slurp(CLOTHSIM_SCENES_DOC);
   const std::string report_section = doc.substr(doc.find("**The report**"));
   ASSERT_GT(report_section.size(), 100u);
@@ -626,7 +630,36 @@ TEST(Cli, ViewerOptionsThatWouldDoNothingAreBadInput) {
   EXPECT_TRUE(fs::is_empty(d));
 }
 
+// The report's self_crossings (at the end) is always there, an integer; --check-crossings adds
+// max_self_crossings, an integer, and max_self_crossings_t, the time of a counted frame (every
+// 0.05 s) within the run, which the closing line then says too.
+TEST(Cli, SelfCrossingsReachTheReport) {
+  const fs::path d = fresh_dir("self_crossings");
+  const Result plain = run("--headless --steps 12 --report " + q(d / "plain.json"));
+  ASSERT_EQ(plain.code, 0) << plain.output;
+  const auto p = read_json(d / "plain.json");
+  ASSERT_TRUE(p.contains("self_crossings"));
+  EXPECT_TRUE(p["self_crossings"].is_number_unsigned()) << p["self_crossings"];
+  EXPECT_FALSE(p.contains("max_self_crossings"));
+  EXPECT_FALSE(p.contains("max_self_crossings_t"));
 
+  const Result checked = run("--headless --steps 12 --check-crossings --report " + q(d / "checked.json"));
+  ASSERT_EQ(checked.code, 0) << checked.output;
+  const auto j = read_json(d / "checked.json");
+  ASSERT_TRUE(j.contains("max_self_crossings")) << j.dump();
+  EXPECT_TRUE(j["self_crossings"].is_number_unsigned()) << j["self_crossings"];
+  EXPECT_TRUE(j["max_self_crossings"].is_number_unsigned()) << j["max_self_crossings"];
+  EXPECT_EQ(j["self_crossings"], p["self_crossings"]);  // (counting changes nothing)
+  const double t = j["max_self_crossings_t"].get<double>(), dt = j["dt"].get<double>();
+  EXPECT_GE(t, 0.0);
+  EXPECT_LE(t, j["seconds_simulated"].get<double>());
+  EXPECT_NEAR(t / dt, std::round(t / dt), 1e-6);  // the time of a step
+  EXPECT_NE(checked.output.find("self-crossings " + std::to_string(j["self_crossings"].get<long>()) + " (most "),
+            std::string::npos)
+      << checked.output;
+  // without the flag the closing line is as it was
+  EXPECT_EQ(plain.output.find("self-crossings"), std::string::npos) << plain.output;
+}
 
 }  // namespace
 

@@ -59,6 +59,7 @@ std::string check_combinations(const RunConfig& c) {
 #ifdef CLOTHSIM_HAVE_VIEWER
   if (!c.headless && (!c.report.empty() || !c.export_dir.empty()))
     return "--report and --export-obj belong to headless runs: add --headless";
+  if (!c.headless && c.check_crossings) return "--check-crossings belongs to headless runs: add --headless";
 #endif
   return {};
 }

@@ -138,6 +138,10 @@ void add_run_flags(CLI::App& app, RunConfig& c, Flags& f) {
   f.export_every = app.add_option("--export-every", f.export_every_text,
                                   "With --export-obj: every K steps of --dt (substeps not counted; default 10)");
   app.add_flag("--quiet", c.quiet, "No progress bar and no summary");
+  app.add_flag("--check-crossings", c.check_crossings,
+               "Count the cloth's self-crossings (edges through its own triangles) every 0.05 s of simulated "
+               "time: the report's max_self_crossings and max_self_crossings_t (the count at the end, "
+               "self_crossings, is always there)");
   app.add_option("--threads", f.threads_text,
                  "Threads for the force loops: auto (default: measures one thread and all cores while it runs and "
                  "keeps the faster), N (1..1024) or 0 (all cores), as asked even when another program keeps a core "

@@ -3,11 +3,14 @@
 #include "progress.hpp"
 #include "run.hpp"
 
+#include <clothsim/self_crossings.hpp>
 #include <clothsim/thread_choice.hpp>
 
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
@@ -36,6 +39,23 @@ std::string make_export_dir(const std::string& dir) {
   return "--export-obj: cannot create directory '" + dir + "'" + (ec ? ": " + ec.message() : std::string());
 }
 
+// --check-crossings: counts the frames every kCrossingsEvery s of simulated time and keeps the
+// most (the first frame with it).
+struct CrossingsWatch {
+  bool on = false;
+  std::int64_t last_frame = -1;
+  void look(const Model& model, RunResult& r) {
+    const auto frame = static_cast<std::int64_t>(std::floor(r.state.t / kCrossingsEvery + 1e-9));
+    if (!on || frame <= last_frame) return;
+    last_frame = frame;
+    const std::size_t n = count_self_crossings(model, r.state.x).crossings;
+    if (n > r.max_self_crossings || frame == 0) {
+      r.max_self_crossings = n;
+      r.max_self_crossings_t = r.state.t;
+    }
+  }
+};
+
 }  // namespace
 
 int run_headless(const RunConfig& c, const b2o::Scene& scene, const Plan& p, RunResult& r) {
@@ -61,6 +81,8 @@ int run_headless(const RunConfig& c, const b2o::Scene& scene, const Plan& p, Run
       std::cerr << "clothsim: error: --export-obj: " << err << "\n";
       return kExitFailed;
     }
+  CrossingsWatch crossings{c.check_crossings};
+  crossings.look(model, r);
   std::chrono::steady_clock::duration step_time{};
   const std::clock_t cpu0 = std::clock();  // CPU time: robust to other processes on the machine
   for (std::uint64_t i = 0; i < r.total; ++i) {
@@ -82,6 +104,7 @@ int run_headless(const RunConfig& c, const b2o::Scene& scene, const Plan& p, Run
     r.done = i + 1;
     r.t_done = r.state.t;
     r.max_strain = std::max(r.max_strain, max_strain(model, r.state.x));
+    crossings.look(model, r);
     if (exporting && r.done % c.export_every == 0)
       if (const std::string err = export_obj(c.export_dir, scene, model, r.state, r.done, c.options.dt); !err.empty()) {
         progress.finish();
@@ -94,7 +117,7 @@ int run_headless(const RunConfig& c, const b2o::Scene& scene, const Plan& p, Run
   const double cpu_ms = 1000.0 * static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   const auto per_step = [&r](double ms) { return r.timed ? ms / static_cast<double>(r.timed) : 0.0; };
   r.ms_per_step = per_step(std::chrono::duration<double, std::milli>(step_time).count());
-  r.cpu_ms_per_step = per_step(cpu_ms);  // includes --export-obj
+  r.cpu_ms_per_step = per_step(cpu_ms);  // includes --export-obj and --check-crossings
   r.auto_threads = chooser.has_value();
   if (chooser) {
     r.cores = chooser->cores();

@@ -4,6 +4,7 @@
 
 #include <clothsim/output_file.hpp>
 #include <clothsim/scene.hpp>
+#include <clothsim/self_crossings.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -12,6 +13,7 @@
 #include <cstdio>
 #include <iostream>
 #include <limits>
+#include <optional>
 
 #ifndef CLOTHSIM_VERSION
 #define CLOTHSIM_VERSION "0.0.0"
@@ -33,6 +35,7 @@ struct Outcome {
   bool ke_overflow = false; ///< finite, but the kinetic energy overflows a double
   double reach = 0.0;       ///< m, how far behind a surface the search sees (2 eps)
   bool past_eps = false;    ///< a mass was seen past eps (it may be deeper, or through)
+  std::optional<std::size_t> self_crossings;  ///< at the end (none for a failed run)
 };
 
 Outcome outcome(const RunConfig& c, const Plan& p, const RunResult& r) {
@@ -51,6 +54,7 @@ Outcome outcome(const RunConfig& c, const Plan& p, const RunResult& r) {
   // so max_penetration is at most 2 eps and is no depth. Past eps the contact lets go.
   o.reach = 2.0 * c.options.epsilon;
   o.past_eps = r.state.max_penetration > c.options.epsilon;
+  if (r.finite) o.self_crossings = count_self_crossings(p.model, r.state.x).crossings;
   return o;
 }
 
@@ -129,6 +133,11 @@ json report_json(const RunConfig& c, const Plan& p, const RunResult& r, const Ou
   j["max_penetration_past_eps"] = o.past_eps;              // true: masses may be deeper or through
   j["kinetic_energy"] = number(o.kinetic);
   j["max_strain"] = number(r.max_strain);  // the largest structural strain after any step of dt
+  j["self_crossings"] = o.self_crossings ? json(*o.self_crossings) : json(nullptr);  // at the end
+  if (c.check_crossings) {  // the most of the frames every kCrossingsEvery s, and when
+    j["max_self_crossings"] = r.max_self_crossings;
+    j["max_self_crossings_t"] = r.max_self_crossings_t;
+  }
   j["stable_dt_estimate"] = number(omega > 0 ? 2.0 / omega : std::numeric_limits<double>::infinity());
   j["options"] = options_json(c.options);
   j["threads"] = r.auto_threads ? json("auto") : json(r.threads);
@@ -145,7 +154,11 @@ void print_summary(const RunConfig& c, const Plan& p, const RunResult& r, const 
                                  " m; past eps the contact lets go, masses may be deeper or through)"
                            : std::string())
             << ", kinetic energy " << o.kinetic << " J, cloth y " << o.lo.y() << " .. " << o.hi.y()
-            << ", max strain " << fmt(100.0 * r.max_strain) << " %\n";
+            << ", max strain " << fmt(100.0 * r.max_strain) << " %";
+  if (c.check_crossings)
+    std::cout << ", self-crossings " << o.self_crossings.value_or(0) << " (most " << r.max_self_crossings
+              << " at t = " << fmt(r.max_self_crossings_t) << " s)";
+  std::cout << "\n";
   if (r.auto_threads && r.cores > 1 && r.steps_one + r.steps_many > 0) {
     const double share = static_cast<double>(r.steps_many) / static_cast<double>(r.steps_one + r.steps_many);
     char pct[32];

@@ -31,6 +31,10 @@ struct Plan {
 /// -1 to go on, else the exit code (the error already said).
 int prepare(const RunConfig& config, const b2o::Scene& scene, Plan& plan);
 
+/// s of simulated time between the frames --check-crossings counts (the first state at or
+/// after each multiple, t = 0 included).
+inline constexpr double kCrossingsEvery = 0.05;
+
 /// What a headless run did.
 struct RunResult {
   State state;
@@ -41,6 +45,9 @@ struct RunResult {
   std::uint64_t failed_step = 0;  ///< the step of dt (1-based) in which the state became non-finite
   double t_done = 0.0;            ///< s simulated after the last completed step
   double max_strain = 0.0;        ///< the largest structural strain after any step of dt
+  // --check-crossings: the most self-crossings of a counted frame, and the first frame's time
+  std::size_t max_self_crossings = 0;
+  double max_self_crossings_t = 0.0;
   double ms_per_step = 0.0, cpu_ms_per_step = 0.0;  ///< per step of dt, its substeps included
   // threads: auto (steps with one and with `cores` threads), or the fixed count
   bool auto_threads = false;

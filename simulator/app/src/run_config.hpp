@@ -42,6 +42,7 @@ struct RunConfig {
   std::string report, export_dir;
   std::uint64_t export_every = 10;
   bool export_every_given = false;
+  bool check_crossings = false;    ///< count the cloth's self-crossings every kCrossingsEvery s
   // the viewer
   std::string screenshot, frames;
   int fps = 30, width = 1280, height = 720;
