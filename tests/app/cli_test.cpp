@@ -661,6 +661,29 @@ TEST(Cli, SelfCrossingsReachTheReport) {
   EXPECT_EQ(plain.output.find("self-crossings"), std::string::npos) << plain.output;
 }
 
+#ifdef CLOTHSIM_HEAP_EXE
+// --self-collision decides whether a strip falling into a heap passes through itself: off, the
+// frames every 0.05 s show crossings; on (the default), none; the report and --help say which.
+TEST(Cli, SelfCollisionSwitchDecidesWhetherTheHeapPassesThroughItself) {
+  const fs::path d = fresh_dir("self_collision");
+  for (const char* state : {"off", "on"}) {
+    const std::string report = q(d / (std::string(state) + ".json"));
+    const std::string flag = std::string(state) == "off" ? " --self-collision off" : "";
+    const Result r = run_program(CLOTHSIM_HEAP_EXE, "--headless --quiet --seconds 2.5 --check-crossings" + flag +
+                                                        " --report " + report);
+    ASSERT_EQ(r.code, 0) << r.output;
+    const auto j = read_json(d / (std::string(state) + ".json"));
+    EXPECT_EQ(j["options"]["self_collision"], state);
+    if (std::string(state) == "off")
+      EXPECT_GT(j["max_self_crossings"].get<long>(), 0) << "the heap never folded through itself";
+    else
+      EXPECT_EQ(j["max_self_crossings"].get<long>(), 0);
+  }
+  const Result help = run_program(CLOTHSIM_HEAP_EXE, "--help");
+  EXPECT_NE(help.output.find("--self-collision"), std::string::npos) << help.output;
+}
+#endif
+
 }  // namespace
 
 #ifdef CLOTHSIM_HANGING_EXE

@@ -30,7 +30,7 @@ set(passes "blender2ogl_add_scene\\(flag\\): .*absent.obj: no such model file")
 
 # misspelled keys: the scene, each key, a hint, the valid keys
 expect("mas=0.01 k-struct=2000" "blender2ogl_add_scene\\(flag\\): bad PARAMS: 'mas=0.01': 'mas' is not a scene parameter \\(did you mean mass\\?\\) 'k-struct=2000': 'k-struct' is not a scene parameter \\(did you mean k_struct\\?\\)")
-expect("mas=0.01" "Valid keys \\(underscores, as the simulator reads them\\): dt, material, density, stretch, bend, drag, thickness, strain_limit, air_density, friction, static_friction, mass, k_struct, k_bend, damping, epsilon, k_rep, gravity_x, gravity_y, gravity_z, pin_spin, integrator")
+expect("mas=0.01" "Valid keys \\(underscores, as the simulator reads them\\): dt, material, density, stretch, bend, drag, thickness, strain_limit, air_density, friction, static_friction, mass, k_struct, k_bend, damping, epsilon, k_rep, gravity_x, gravity_y, gravity_z, pin_spin, integrator, self_collision")
 expect("gravity=-9.81" "'gravity' is not a scene parameter \\(did you mean gravity_x or gravity_y or gravity_z\\?\\)")
 expect("K_BEND=1" "'K_BEND' is not a scene parameter \\(did you mean k_bend\\?\\)")
 expect("camera=5" "'camera' is not a scene parameter Valid")

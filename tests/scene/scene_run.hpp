@@ -2,6 +2,7 @@
 #pragma once
 
 #include <clothsim/scene.hpp>
+#include <clothsim/self_crossings.hpp>
 #include <clothsim/stability.hpp>
 #include <clothsim/step.hpp>
 
@@ -38,8 +39,23 @@ inline bool step_dt(const Model& m, State& s, Workspace& ws) {
   return true;
 }
 
+/// Whether step `step` of dt ends a frame of the crossing checks (every 0.05 s).
+inline bool crossing_frame(const Model& m, long step) {
+  return step % std::max(1L, std::lround(0.05 / m.options.dt)) == 0;
+}
+
+/// With self-collision on (every material's default): no edge of the cloths passes through
+/// one of their triangles at this frame. Returns the count.
+inline std::size_t expect_no_crossings(const Model& m, const State& s) {
+  if (m.options.self_collision != Switch::On) return 0;
+  const std::size_t n = count_self_crossings(m, s.x).crossings;
+  EXPECT_EQ(n, 0u) << m.scene_name << ": " << n << " self-crossings at t = " << s.t << " s";
+  return n;
+}
+
 /// Runs the model from rest for `seconds` with the planned substeps, checking every step of dt
-/// that the state is finite (a failure stops the run); the state at the end.
+/// that the state is finite and every 0.05 s that it has no self-crossing (a failure stops the
+/// run); the state at the end.
 inline State run_for(const Model& m, double seconds) {
   State s = make_state(m);
   Workspace ws = planned_workspace(m);
@@ -47,6 +63,8 @@ inline State run_for(const Model& m, double seconds) {
   for (long i = 1; i <= steps; ++i)
     if (!step_dt(m, s, ws)) {
       ADD_FAILURE() << m.scene_name << ": not finite at step " << i;
+      break;
+    } else if (crossing_frame(m, i) && expect_no_crossings(m, s) > 0) {
       break;
     }
   return s;

@@ -43,7 +43,9 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> spread(const Eigen::Matrix3Xd& x) {
 // A cloth with the defaults (cotton) drapes the same at both resolutions, within 10 % of the
 // cloth's size at 1, 2 and 3 s: its centre of mass and its spread along each axis.
 TEST(SkirtHiresScene, DrapesAsTheSkirtAt1And2And3Seconds) {
-  const Model h = build_model(hires(), Options{}), l = build_model(skirt(), Options{});
+  Options o;
+  o.self_collision = Switch::Off;  // (its cost at 16 640 masses: docs/performance.md, "Self-contact")
+  const Model h = build_model(hires(), o), l = build_model(skirt(), o);
   const double size = (l.x0.rowwise().maxCoeff() - l.x0.rowwise().minCoeff()).norm();
   State sh = make_state(h), sl = make_state(l);
   Workspace wh = test::planned_workspace(h), wl = test::planned_workspace(l);
@@ -61,9 +63,25 @@ TEST(SkirtHiresScene, DrapesAsTheSkirtAt1And2And3Seconds) {
   }
 }
 
+// The seed's story at 16 640 masses, without self-contact (its cost: docs/performance.md).
 TEST(SkirtHiresScene, LandsWrapsSlidesOffAndRestsOnTheFloor) {
   test::SkirtRun hi;
-  test::check_skirt(hires(), 10, &hi);
+  test::check_skirt(hires(), 10, &hi, Switch::Off);
+}
+
+// With self-contact (the scene's default): no layer passes through another in any frame
+// 0.05 s apart while the skirt falls onto the sphere and starts to wrap it.
+TEST(SkirtHiresScene, NoSelfCrossingWhileItLandsAndWraps) {
+  const Model m = build_model(hires(), scene_options(hires()));
+  ASSERT_EQ(m.options.self_collision, Switch::On);
+  State s = make_state(m);
+  Workspace ws = test::planned_workspace(m);
+  for (long i = 1; i <= std::lround(0.6 / m.options.dt); ++i) {
+    ASSERT_TRUE(test::step_dt(m, s, ws)) << "step " << i;
+    if (test::crossing_frame(m, i)) {
+      ASSERT_EQ(test::expect_no_crossings(m, s), 0u);
+    }
+  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <clothsim/closed_mesh.hpp>
 #include <clothsim/integrators.hpp>
 #include <clothsim/scene.hpp>
+#include <clothsim/self_crossings.hpp>
 
 #include <blender2ogl/scene_types.h>
 
@@ -53,8 +54,20 @@ std::string rounding_warning(const Model& model, double h) {
          " s, or another integrator";
 }
 
+// A cloth that starts passing through itself: self-contact keeps what it is given.
+std::string crossing_warning(const Model& model) {
+  if (model.options.self_collision != Switch::On) return {};
+  const CrossingCount c = count_self_crossings(model, model.x0);
+  if (c.crossings == 0) return {};
+  return "warning: the cloth starts with " + std::to_string(c.crossings) + " self-crossings (" +
+         std::to_string(c.triangle_pairs) +
+         " triangle pairs): self-contact makes no new one but cannot undo these; fix the model in Blender "
+         "(clothsim_crossings counts them in an OBJ)";
+}
+
 // Every start-up warning: a step above the safe one, no cloth, tunnelling, colliders whose
-// faces point inwards, masses that start inside a collider's band, position rounding.
+// faces point inwards, masses that start inside a collider's band, position rounding, a
+// cloth that starts through itself.
 std::vector<std::string> startup_warnings(const Plan& p, const b2o::Scene& scene) {
   std::vector<std::string> w;
   if (p.substeps.message.rfind("warning: ", 0) == 0) w.push_back(p.substeps.message);
@@ -65,6 +78,7 @@ std::vector<std::string> startup_warnings(const Plan& p, const b2o::Scene& scene
   if (p.tunnel.warn) w.push_back(p.tunnel.message);
   for (std::string& s : collider_warnings(p.model)) w.push_back(std::move(s));
   if (std::string s = rounding_warning(p.model, p.substeps.h); !s.empty()) w.push_back(std::move(s));
+  if (std::string s = crossing_warning(p.model); !s.empty()) w.push_back(std::move(s));
   return w;
 }
 

@@ -11,6 +11,7 @@
 #include "perf_scenes.hpp"
 
 #include <clothsim/scene.hpp>
+#include <clothsim/stability.hpp>
 
 #include "skirt.h"
 
@@ -235,8 +236,34 @@ void BM_SkirtStep(benchmark::State& st) {
   st.counters["masses"] = static_cast<double>(m.mass_count());
 }
 
+// The skirt as baked (rubber, XPBD, its planned substeps): one step of dt, averaged over a
+// whole 20 s run (fall, wrap, slide, rest), with self-contact off (0) and on (1). Their ratio,
+// measured in one run, is what self-contact costs.
+void BM_SkirtSelfContact(benchmark::State& st) {
+  const auto& scene = b2o::gen::skirt::scene;
+  Options o = scene_options(scene);
+  o.self_collision = st.range(0) != 0 ? Switch::On : Switch::Off;
+  const Model m = build_model(scene, o);
+  const int substeps = plan_substeps(m.options.dt, analyse_stability(m).dt_stable, SubstepPolicy{}).substeps;
+  State s = make_state(m);
+  Workspace ws = make_workspace(m);
+  ws.substeps = substeps;
+  for (auto _ : st) {
+    for (int q = 0; q < substeps; ++q) step(m, s, ws);
+    if (s.t >= 20.0 - 1e-9) {
+      st.PauseTiming();
+      s = make_state(m);
+      ws = make_workspace(m);
+      ws.substeps = substeps;
+      st.ResumeTiming();
+    }
+  }
+  st.counters["substeps"] = substeps;
+}
+
 }  // namespace
 
+BENCHMARK(BM_SkirtSelfContact)->Arg(0)->Arg(1)->Iterations(2000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SpringsScatter)->RangeMultiplier(4)->Range(16, 256)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SpringsGather)->ArgsProduct({{16, 64, 256}, {1, 2}})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SpringsGatherStrained)->RangeMultiplier(4)->Range(16, 256)->Unit(benchmark::kMicrosecond);

@@ -5,13 +5,14 @@
 // elements from meeting; the velocities take the moves.
 #include "parallel.hpp"
 #include "self_contact.hpp"
+#include "stages.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace clothsim::detail {
 
-void detect_self(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace& ws);
+void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, const Workspace& ws);
 
 namespace {
 
@@ -37,25 +38,60 @@ void separate(const Model& m, const SelfScratch& sc, const SelfPair& p, bool ver
 
 }  // namespace
 
-void self_contact_begin(const Model& model, const State& state, Workspace& ws) {
+void self_contact_begin(const Model& model, const State& state, Workspace& ws, double h) {
   SelfScratch& sc = *ws.self;
-  if (sc.detect) detect_self(model, state.x, sc, ws);
+  if (sc.detect) detect_self(model, state, h, sc, ws);
   sc.xs = state.x;
 }
 
-void self_contact_end(const Model& model, State& state, Workspace& ws, double h) {
+namespace {
+
+// Each free mass back within its bound of where it was at the detection; a mass held back is
+// locked (weight 0) for the springs' pass that follows. Whether any was.
+bool hold(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, const Workspace& ws) {
+  const auto n = static_cast<std::int64_t>(model.mass_count());
+  [[maybe_unused]] const int nt = team(ws, model.mass_count());
+  bool held = false;
+#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1) reduction(|| : held)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const double b = sc.bound[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d d = x.col(i) - sc.xd.col(i);
+    const double len = d.norm();
+    if (len > b && model.inv_mass[i] != 0.0) {
+      x.col(i) = sc.xd.col(i) + (b / len) * d;
+      sc.weight[static_cast<std::size_t>(i)] = 0.0;
+      sc.held[static_cast<std::size_t>(i)] = 1;
+      held = true;
+    }
+  }
+  return held;
+}
+
+}  // namespace
+
+void self_contact_end(const Model& model, State& state, Workspace& ws, double h, bool push) {
   SelfScratch& sc = *ws.self;
   sc.xpre = state.x;
-  for (const SelfPair& p : sc.vt) separate(model, sc, p, true, state.x);
-  for (const SelfPair& p : sc.ee) separate(model, sc, p, false, state.x);
-  // Each free mass within its bound of the cloth's common move since the detection (a gap
-  // does not change when everything moves alike); detect again when a mass may reach its
-  // bound in the next step.
-  Eigen::Vector3d shift = Eigen::Vector3d::Zero(), drift = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < model.mass_count(); ++i)
-    if (sc.in_face[i]) shift += state.x.col(static_cast<Eigen::Index>(i)) - sc.xd.col(static_cast<Eigen::Index>(i)),
-                       drift += state.v.col(static_cast<Eigen::Index>(i));
-  shift /= static_cast<double>(sc.faced), drift /= static_cast<double>(sc.faced);
+  sc.vpre = state.v;
+  std::fill(sc.held.begin(), sc.held.end(), std::uint8_t{0});
+  // Pushes and bounds in turn: a push the bounds cut short gets another try within them. With
+  // XPBD the springs then take their length again with the held masses locked, so that a held
+  // mass does not leave its neighbours pulling at it (which would feed the springs energy).
+  const bool springs = model.options.integrator == Integrator::XPBD;
+  for (int pass = 0; pass < (push ? kSelfPasses : 1); ++pass) {
+    if (push) {
+      for (const SelfPair& p : sc.vt) separate(model, sc, p, true, state.x);
+      for (const SelfPair& p : sc.ee) separate(model, sc, p, false, state.x);
+    }
+    std::copy(model.inv_mass.data(), model.inv_mass.data() + model.inv_mass.size(), sc.weight.begin());
+    if (hold(model, sc, state.x, ws) && springs) {
+      relax_structural(model, state.x, sc.weight.data(), ws, h);
+      hold(model, sc, state.x, ws);
+    }
+  }
+  // The velocities take the pushes; a mass held at its bound keeps its velocity but the part
+  // that leaves the bound (an inelastic stop: holding never adds energy). Detect again when a
+  // mass may reach its bound in the next step.
   bool near_bound = false;
   const auto n = static_cast<std::int64_t>(model.mass_count());
   [[maybe_unused]] const int nt = team(ws, model.mass_count());
@@ -63,14 +99,16 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
   for (std::int64_t i = 0; i < n; ++i) {
     const double b = sc.bound[static_cast<std::size_t>(i)];
     if (std::isinf(b)) continue;
-    const Eigen::Vector3d d = state.x.col(i) - sc.xd.col(i) - shift;
-    const double len = d.norm();
-    if (len > b && model.inv_mass[i] != 0.0) state.x.col(i) = sc.xd.col(i) + shift + (b / len) * d;
-    state.v.col(i) += (state.x.col(i) - sc.xpre.col(i)) / h;
-    const double ahead = kSelfLookAhead * h * (state.v.col(i) - drift).norm();
-    near_bound = near_bound || (state.x.col(i) - sc.xd.col(i) - shift).norm() + ahead > b;
+    const Eigen::Vector3d out = state.x.col(i) - sc.xd.col(i);
+    if (sc.held[static_cast<std::size_t>(i)] && out.norm() > 0.0) {
+      const Eigen::Vector3d u = out.normalized();
+      state.v.col(i) = sc.vpre.col(i) - std::max(0.0, sc.vpre.col(i).dot(u)) * u;
+    } else {
+      state.v.col(i) += (state.x.col(i) - sc.xpre.col(i)) / h;
+    }
+    near_bound = near_bound || out.norm() + kSelfLookAhead * h * state.v.col(i).norm() > b;
   }
-  sc.detect = near_bound;
+  sc.detect = near_bound || sc.pins_move;
 }
 
 }  // namespace clothsim::detail

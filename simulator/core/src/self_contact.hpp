@@ -14,14 +14,19 @@
 namespace clothsim::detail {
 
 /// Each free mass moves at most this fraction of its distance to the nearest element it is
-/// not part of between two detections, apart from the cloth's common move (Chen et al. 2024, 2025; Warp uses 0.42): two elements
+/// not part of between two detections (Chen et al. 2024, 2025; Warp uses 0.42): two elements
 /// then close at most 2 * 0.42 of their gap, and never meet.
 inline constexpr double kSelfGamma = 0.42;
 /// The detection looks this many contact distances around each element.
-inline constexpr double kSelfRadius = 6.0;
+inline constexpr double kSelfRadius = 10.0;
+/// The candidate lists look this many contact distances farther (a Verlet list's skin): they
+/// hold until a mass has moved half of it, apart from the cloth's common move.
+inline constexpr double kSelfSkin = 6.0;
+/// Passes of pushes and bounds after each step.
+inline constexpr int kSelfPasses = 2;
 /// A detection runs before a step in which a mass moving at its speed times this would
 /// pass its bound.
-inline constexpr double kSelfLookAhead = 1.5;
+inline constexpr double kSelfLookAhead = 2.0;
 
 /// A pair of elements near each other: a mass and a triangle, or two edges. Their gap vector
 /// is sum_i coef[i] x[mass[i]] (the coefficients place the closest points); the stage keeps
@@ -35,16 +40,23 @@ struct SelfPair {
 struct SelfScratch {
   std::vector<std::uint32_t> triangles, edges;  ///< (3 t), (2 e) mass indices; edges once each
   SelfBvh triangle_tree, edge_tree;
-  std::uint32_t refits = 0;       ///< detections since the trees were last built
+  std::uint32_t builds = 0;       ///< candidate lists built (the trees are rebuilt every few)
+  std::vector<SelfPair> cand_vt, cand_ee;  ///< every pair within radius + skin at xl
+  Eigen::Matrix3Xd xl;            ///< (3 x n) the positions the candidates were found at
   Eigen::Matrix3Xd xd;            ///< (3 x n) the positions at the last detection
-  Eigen::Matrix3Xd xs, xpre;      ///< (3 x n) at the step's start; before the stage's moves
-  std::vector<double> bound;      ///< (n) m, how far each mass may be from xd (inf: in no face)
+  Eigen::Matrix3Xd xs, xpre, vpre;  ///< (3 x n) at the step's start; before the stage's moves
+  std::vector<std::uint8_t> held;     ///< (n) 1 if the stage held the mass at its bound this step
+  std::vector<double> bound;      ///< (n) m, how far each mass may be from xd (inf: pinned or in no face)
+  std::vector<double> weight;     ///< (n) 1/kg, the inverse masses with the held masses at 0
+  std::vector<double> pin_move;   ///< (n) m, how far a pinned mass moves in the next step (0: free)
+  bool pins_move = false;         ///< some pin turns: detect before every step
   std::vector<std::uint8_t> in_face;  ///< (n) 1 if the mass is a corner of a face
   std::size_t faced = 0;          ///< masses in a face
   std::vector<SelfPair> vt, ee;   ///< the pairs of the last detection
   std::vector<std::vector<SelfPair>> found;  ///< per thread, while detecting
   double distance = 0.0;          ///< m, the contact distance between layers
   double radius = 0.0;            ///< m, how far a detection looks
+  double skin = 0.0;              ///< m, how much farther the candidate lists look
   bool detect = true;             ///< detect before the next step
   std::uint64_t detections = 0;   ///< over the Workspace's life
 };
@@ -69,11 +81,12 @@ inline Eigen::Vector3d pair_gap(const Eigen::Matrix3Xd& x, const std::uint32_t m
 /// The stage's memory for a model with self-collision on and faces (else nullptr).
 std::shared_ptr<SelfScratch> make_self_scratch(const Model& model);
 
-/// Before the integrator: detects when the last step asked for it, keeps the start positions.
-void self_contact_begin(const Model& model, const State& state, Workspace& ws);
-/// After the integrator (and strain limiting): pushes close pairs apart to the contact
-/// distance with Coulomb friction, then holds every mass within its bound; the velocities
-/// take the moves over h.
-void self_contact_end(const Model& model, State& state, Workspace& ws, double h);
+/// Before the integrator and the pins' move: detects when the last step asked for it, keeps
+/// the start positions.
+void self_contact_begin(const Model& model, const State& state, Workspace& ws, double h);
+/// After the integrator: pushes close pairs apart to the contact distance with Coulomb
+/// friction (`push`), then holds every mass within its bound; the velocities take the pushes
+/// over h. Without `push` (after strain limiting): only the bounds.
+void self_contact_end(const Model& model, State& state, Workspace& ws, double h, bool push);
 
 }  // namespace clothsim::detail

@@ -22,6 +22,9 @@ void rk4(const Model& model, State& state, Workspace& ws, double h);
 void implicit_euler(const Model& model, State& state, Workspace& ws, double h);
 void fast_mass_spring(const Model& model, State& state, Workspace& ws, double h);
 void xpbd(const Model& model, State& state, Workspace& ws, double h);
+/// One of XPBD's passes over the structural springs at x with the inverse masses w (after an
+/// xpbd() step of h): the self-contact stage's, with the masses it holds at their bounds locked.
+void relax_structural(const Model& model, Eigen::Matrix3Xd& x, const double* w, Workspace& ws, double h);
 
 /// The air's drag on the cloth's faces over h, before the integrator (air_drag.cpp): each face's
 /// normal velocity u becomes u / (1 + h air |u|), the exact decay of du/dt = -air |u| u, its

@@ -107,6 +107,7 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
   if (method != Integrator::SymplecticEuler && !ws.integrator_scratch)
     ws.integrator_scratch = make_integrator_scratch(model);
   bool checked = false, finite = true;
+  if (ws.self) self_contact_begin(model, state, ws, h);  // (before the pins turn: they move within the step)
   // pins that turn are put where they are at the step's end; others keep their bits
   const auto turning = static_cast<std::size_t>(model.pin_axis.cols());
   const bool spin = turning > 0 && turning == ws.pinned_index.size();
@@ -121,7 +122,6 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
   const bool first = state.steps % per == 0, last = (state.steps + 1) % per == 0;
   const bool air = model.air > 0.0;
   if (air && first) air_drag(model, state, ws, 0.5 * model.options.dt);
-  if (ws.self) self_contact_begin(model, state, ws);
   switch (method) {
     case Integrator::SymplecticEuler: symplectic_euler(model, state, ws, h, checked, finite); break;
     case Integrator::ExplicitEuler: explicit_euler(model, state, ws, h); break;
@@ -134,9 +134,10 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
     case Integrator::Auto: break;  // (resolved when the Model is built)
   }
   if (method != Integrator::XPBD) apply_friction(model, state, ws, h);  // (XPBD's is in its contact)
+  if (ws.self) self_contact_end(model, state, ws, h, true);
   if (air && last) air_drag(model, state, ws, 0.5 * model.options.dt);
   if (last) limit_strain(model, state, ws);
-  if (ws.self) self_contact_end(model, state, ws, h);
+  if (last && ws.self) self_contact_end(model, state, ws, h, false);  // (the limiter's moves within the bounds)
   restore_pins(state, ws);
   if (spin) spin_pin_velocities(model, state, ws);
   state.t += h;

@@ -111,6 +111,13 @@ void push_out(const Model& m, State& s, IntegratorScratch& sc, Workspace& ws, do
 
 }  // namespace
 
+void relax_structural(const Model&, Eigen::Matrix3Xd& x, const double* w, Workspace& ws, double h) {
+  IntegratorScratch& sc = *ws.integrator_scratch;
+  const double inv_h2 = 1.0 / (h * h);
+  double* p = x.data();
+  by_colour(sc.structural, ws, [&](const Link& l) { project(l, w, inv_h2, p); });
+}
+
 void xpbd(const Model& m, State& s, Workspace& ws, double h) {
   IntegratorScratch& sc = *ws.integrator_scratch;
   if (sc.bend.start.empty()) sc.structural = colour_springs(m, 0), sc.bend = colour_springs(m, 1);  // (once)

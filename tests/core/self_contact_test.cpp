@@ -1,0 +1,179 @@
+// Self-contact's hard cases (docs/collision.md, "Self-contact"): a fold closing at 10 m/s, two
+// cloths meeting at 10 m/s, two layers pressed onto a floor, a cloth twisted by its pins, and a
+// cloth that starts through itself. Every step is checked with count_self_crossings().
+#include <clothsim/model_builder.hpp>
+#include <clothsim/self_crossings.hpp>
+#include <clothsim/step.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "floor_collider.hpp"
+#include "inline_scenes.hpp"
+
+namespace clothsim {
+namespace {
+
+// A grid of n x n masses over a 1 m square, mapped through place(u, v) with u, v in [0, 1]:
+// its positions, structural springs on the triangles' edges, bend springs across quads.
+struct Sheet {
+  Eigen::Matrix3Xd x;
+  std::vector<SpringSpec> springs;
+  std::vector<std::uint32_t> triangles;
+};
+
+template <class Place>
+Sheet sheet(int n, Place place) {
+  Sheet s;
+  s.x.resize(3, n * n);
+  auto id = [n](int i, int j) { return static_cast<std::uint32_t>(j * n + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) s.x.col(id(i, j)) = place(double(i) / (n - 1), double(j) / (n - 1));
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      s.triangles.insert(s.triangles.end(),
+                         {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+      s.springs.push_back({id(i, j), id(i + 1, j + 1), 0});
+      if (i + 2 < n) s.springs.push_back({id(i, j), id(i + 2, j + 1), 1});
+      if (j + 2 < n) s.springs.push_back({id(i, j), id(i + 1, j + 2), 1});
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if (i + 1 < n) s.springs.push_back({id(i, j), id(i + 1, j), 0});
+      if (j + 1 < n) s.springs.push_back({id(i, j), id(i, j + 1), 0});
+    }
+  return s;
+}
+
+// Steps `seconds` (substeps of 0.5 ms), checking after every step that the state is finite
+// and no edge passes through a triangle; the most crossings seen.
+std::size_t run_checked(const Model& m, State& s, double seconds) {
+  Workspace ws = make_workspace(m);
+  ws.substeps = 20;
+  std::size_t worst = 0;
+  const long steps = std::lround(seconds / m.options.dt) * ws.substeps;
+  for (long k = 0; k < steps; ++k) {
+    if (!step(m, s, ws).finite) {
+      ADD_FAILURE() << "not finite at t = " << s.t;
+      break;
+    }
+    const std::size_t now = count_self_crossings(m, s.x).crossings;
+    worst = std::max(worst, now);
+  }
+  return worst;
+}
+
+// The smallest distance between masses of two ranges [a0, a1) and [b0, b1).
+double nearest(const Eigen::Matrix3Xd& x, Eigen::Index a0, Eigen::Index a1, Eigen::Index b0, Eigen::Index b1) {
+  double d = 1e300;
+  for (Eigen::Index i = a0; i < a1; ++i)
+    for (Eigen::Index j = b0; j < b1; ++j) d = std::min(d, (x.col(i) - x.col(j)).norm());
+  return d;
+}
+
+// A strip folded into a U (two flat layers 4 cm apart joined by a half circle), its upper
+// layer thrown at the lower one at 10 m/s: the fold closes but the layers never pass.
+TEST(SelfContact, AFoldClosingAtTenMetresASecondNeverPasses) {
+  Options o;
+  o.gravity_y = 0.0;
+  const double rho = 0.02, flat = 0.5, len = 2 * flat + std::numbers::pi * rho;
+  const Sheet u = sheet(21, [&](double a, double b) {
+    const double along = a * len, z = b * 0.5;
+    if (along <= flat) return Eigen::Vector3d(along, 0.0, z);
+    if (along >= flat + std::numbers::pi * rho) return Eigen::Vector3d(len - along, 2 * rho, z);
+    const double phi = (along - flat) / rho;
+    return Eigen::Vector3d(flat + rho * std::sin(phi), rho - rho * std::cos(phi), z);
+  });
+  ModelBuilder b(o, "fold");
+  b.add_cloth(u.x, u.springs, {}, u.triangles);
+  const Model m = b.build();
+  ASSERT_EQ(m.options.self_collision, Switch::On);
+  State s = make_state(m);
+  for (Eigen::Index k = 0; k < s.x.cols(); ++k)
+    if (m.x0(1, k) > 1.5 * rho && m.x0(0, k) < flat - 0.05) s.v(1, k) = -10.0;
+  EXPECT_EQ(run_checked(m, s, 0.3), 0u);
+  // the layers' masses stay apart (a tenth of the contact distance at least)
+  double closest = 1e300;
+  for (Eigen::Index k = 0; k < s.x.cols(); ++k)
+    for (Eigen::Index l = 0; l < s.x.cols(); ++l)
+      if (m.x0(1, k) < 1e-9 && m.x0(1, l) > 1.5 * rho) closest = std::min(closest, (s.x.col(k) - s.x.col(l)).norm());
+  EXPECT_GT(closest, 0.1 * m.contact.distance);
+}
+
+// Two cloths meeting head-on at 10 m/s (closing speed 20 m/s), the upper turned 45 degrees:
+// they stay apart by a part of the contact distance and never cross.
+TEST(SelfContact, TwoClothsMeetingHeadOnStayApart) {
+  Options o;
+  o.gravity_y = 0.0;
+  const Sheet lo = sheet(17, [](double a, double b) { return Eigen::Vector3d(a, 0.0, b); });
+  const double c = std::cos(std::numbers::pi / 4), sn = std::sin(std::numbers::pi / 4);
+  const Sheet hi = sheet(17, [&](double a, double b) {
+    const double px = a - 0.5, pz = b - 0.5;
+    return Eigen::Vector3d(0.5 + c * px - sn * pz, 0.05, 0.5 + sn * px + c * pz);
+  });
+  ModelBuilder b(o, "two");
+  b.add_cloth(lo.x, lo.springs, {}, lo.triangles);
+  b.add_cloth(hi.x, hi.springs, {}, hi.triangles);
+  const Model m = b.build();
+  State s = make_state(m);
+  const Eigen::Index half = lo.x.cols();
+  s.v.row(1).head(half).setConstant(10.0);
+  s.v.row(1).tail(half).setConstant(-10.0);
+  EXPECT_EQ(run_checked(m, s, 0.2), 0u);
+  EXPECT_GT(nearest(s.x, 0, half, half, 2 * half), 0.1 * m.contact.distance);
+}
+
+// Two layers thrown onto a floor at 10 m/s, the upper pressing the lower against it.
+TEST(SelfContact, TwoLayersPressedOntoAFloorStaySeparate) {
+  Options o;
+  const Sheet lo = sheet(17, [](double a, double b) { return Eigen::Vector3d(a - 0.5, 0.05, b - 0.5); });
+  const Sheet hi = sheet(17, [](double a, double b) { return Eigen::Vector3d(0.8 * a - 0.4, 0.07, 0.8 * b - 0.4); });
+  ModelBuilder b(o, "pressed");
+  b.add_cloth(lo.x, lo.springs, {}, lo.triangles);
+  b.add_cloth(hi.x, hi.springs, {}, hi.triangles);
+  b.set_colliders(test::floor_collider());
+  const Model m = b.build();
+  State s = make_state(m);
+  s.v.row(1).setConstant(-10.0);
+  EXPECT_EQ(run_checked(m, s, 1.0), 0u);
+  const Eigen::Index half = lo.x.cols();
+  EXPECT_GT(s.x.row(1).tail(half).minCoeff(), 0.0);
+  EXPECT_GT(nearest(s.x, 0, half, half, 2 * half), 0.1 * m.contact.distance);
+}
+
+// A square whose two opposite edges turn in opposite senses at pi/3 rad/s (pin_spin, as in the
+// twist scene) for 1 s: the cloth starts to wrap around itself and never passes. (Later the
+// pins squeeze its middle flat: docs/collision.md, "Limits".)
+TEST(SelfContact, AClothTwistedByItsPinsNeverPassesInItsFirstSecond) {
+  Options o;
+  o.pin_spin = std::numbers::pi / 3.0;
+  std::vector<std::uint32_t> pins;
+  const int n = 21;
+  for (int j = 0; j < n; ++j) pins.push_back(static_cast<std::uint32_t>(j * n)), pins.push_back(static_cast<std::uint32_t>(j * n + n - 1));
+  const Model m = test::square_cloth_pinned(o, n, pins);
+  State s = make_state(m);
+  EXPECT_EQ(run_checked(m, s, 1.0), 0u);
+}
+
+// Two cloths that start through each other: the stage keeps them finite and near where they
+// were (it cannot undo the crossing and does not fling them apart).
+TEST(SelfContact, ClothsThatStartThroughEachOtherStayFinite) {
+  Options o;
+  o.gravity_y = 0.0;
+  const Sheet flat = sheet(11, [](double a, double b) { return Eigen::Vector3d(a, 0.0, b); });
+  const Sheet upright = sheet(10, [](double a, double b) { return Eigen::Vector3d(a + 0.013, b - 0.5, 0.51); });
+  ModelBuilder b(o, "crossed");
+  b.add_cloth(flat.x, flat.springs, {}, flat.triangles);
+  b.add_cloth(upright.x, upright.springs, {}, upright.triangles);
+  const Model m = b.build();
+  ASSERT_GT(count_self_crossings(m, m.x0).crossings, 0u);
+  State s = make_state(m);
+  run_checked(m, s, 0.5);
+  EXPECT_LT((s.x - m.x0).colwise().norm().maxCoeff(), 0.1) << "flung apart";
+}
+
+}  // namespace
+}  // namespace clothsim
