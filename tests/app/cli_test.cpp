@@ -669,7 +669,7 @@ TEST(Cli, SelfCollisionSwitchDecidesWhetherTheHeapPassesThroughItself) {
   for (const char* state : {"off", "on"}) {
     const std::string report = q(d / (std::string(state) + ".json"));
     const std::string flag = std::string(state) == "off" ? " --self-collision off" : "";
-    const Result r = run_program(CLOTHSIM_HEAP_EXE, "--headless --quiet --seconds 2.5 --check-crossings" + flag +
+    const Result r = run_program(CLOTHSIM_HEAP_EXE, "--headless --quiet --seconds 1.2 --check-crossings" + flag +
                                                         " --report " + report);
     ASSERT_EQ(r.code, 0) << r.output;
     const auto j = read_json(d / (std::string(state) + ".json"));
