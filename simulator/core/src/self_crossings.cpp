@@ -259,7 +259,7 @@ struct Near {
 // crossing without the predicates.
 bool crosses(const Welded& w, std::uint32_t u, std::uint32_t v, const Vec& p, const Vec& q, const Near& t) {
   const std::array<std::uint32_t, 3>& c = t.corner;
-  if ((c[0] == u) | (c[1] == u) | (c[2] == u) | (c[0] == v) | (c[1] == v) | (c[2] == v)) return false;
+  if (c[0] == u || c[1] == u || c[2] == u || c[0] == v || c[1] == v || c[2] == v) return false;
   const Vec pa = p - t.a, qa = q - t.a;
   const double dp = t.n.dot(pa), dq = t.n.dot(qa);
   const double tol = 1e-9 * t.scale * (pa.lpNorm<1>() + qa.lpNorm<1>());
