@@ -504,6 +504,15 @@ def suzanne_mesh():
     return bm
 
 
+def tiled_floor(size, floor_png):
+    """A square floor at y = 0, 4 x 4 quads, with the tile texture."""
+    bm = bmesh.new()
+    uv = bm.loops.layers.uv.new("UVMap")
+    grid(bm, uv, 4, size, (0.0, 0.0, 0.0))
+    new_object("Floor", bm, make_material("FloorTiles", (0.75, 0.73, 0.68), floor_png),
+               smooth=False)
+
+
 def build_drape(out_dir, name):
     fresh_scene()
     os.makedirs(out_dir, exist_ok=True)
@@ -525,11 +534,7 @@ def build_drape(out_dir, name):
     new_object("Cloth", bm, make_material("DrapeChecker", (0.9, 0.55, 0.12), cloth_png),
                smooth=True)
 
-    bm = bmesh.new()
-    uv = bm.loops.layers.uv.new("UVMap")
-    grid(bm, uv, 4, DRAPE_FLOOR_SIZE, (0.0, 0.0, 0.0))
-    new_object("Floor", bm, make_material("FloorTiles", (0.75, 0.73, 0.68), floor_png),
-               smooth=False)
+    tiled_floor(DRAPE_FLOOR_SIZE, floor_png)
     return export(out_dir, name)
 
 
@@ -615,11 +620,7 @@ def build_heap(out_dir, name):
     new_object("Strip", bm, make_material("HeapStripes", (0.2, 0.55, 0.35), cloth_png),
                smooth=True)
 
-    bm = bmesh.new()
-    uv = bm.loops.layers.uv.new("UVMap")
-    grid(bm, uv, 4, HEAP_FLOOR_SIZE, (0.0, 0.0, 0.0))
-    new_object("Floor", bm, make_material("FloorTiles", (0.75, 0.73, 0.68), floor_png),
-               smooth=False)
+    tiled_floor(HEAP_FLOOR_SIZE, floor_png)
     return export(out_dir, name)
 
 
@@ -665,11 +666,7 @@ def build_two_cloths(out_dir, name):
                           calc_uvs=True)
     new_object("Box", bm, make_material("BoxGrey", (0.55, 0.56, 0.6), roughness=0.4), smooth=False)
 
-    bm = bmesh.new()
-    uv = bm.loops.layers.uv.new("UVMap")
-    grid(bm, uv, 4, TWO_FLOOR_SIZE, (0.0, 0.0, 0.0))
-    new_object("Floor", bm, make_material("FloorTiles", (0.75, 0.73, 0.68), floor_png),
-               smooth=False)
+    tiled_floor(TWO_FLOOR_SIZE, floor_png)
     return export(out_dir, name)
 
 
