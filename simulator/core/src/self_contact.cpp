@@ -12,8 +12,6 @@
 
 namespace clothsim::detail {
 
-void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, const Workspace& ws);
-
 namespace {
 
 // Pushes one pair apart to its target, with friction on the relative tangential move since xs.

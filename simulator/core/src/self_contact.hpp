@@ -58,7 +58,6 @@ struct SelfScratch {
   double radius = 0.0;            ///< m, how far a detection looks
   double skin = 0.0;              ///< m, how much farther the candidate lists look
   bool detect = true;             ///< detect before the next step
-  std::uint64_t detections = 0;   ///< over the Workspace's life
 };
 
 /// The gap vector of a pair at positions x: from the closest point of the second element
@@ -80,6 +79,10 @@ inline Eigen::Vector3d pair_gap(const Eigen::Matrix3Xd& x, const std::uint32_t m
 
 /// The stage's memory for a model with self-collision on and faces (else nullptr).
 std::shared_ptr<SelfScratch> make_self_scratch(const Model& model);
+
+/// Detects at the state's positions (self_detect.cpp): every free mass's bound, and the pairs
+/// that can reach their target before the next detection; h is the coming step.
+void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, const Workspace& ws);
 
 /// Before the integrator and the pins' move: detects when the last step asked for it, keeps
 /// the start positions.

@@ -188,7 +188,6 @@ void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, 
   keep_reachable(sc, sc.cand_ee, sc.ee);
   sc.xd = x;
   sc.detect = false;
-  ++sc.detections;
 }
 
 }  // namespace clothsim::detail
