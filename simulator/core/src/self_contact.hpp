@@ -18,10 +18,10 @@ namespace clothsim::detail {
 /// then close at most 2 * 0.42 of their gap, and never meet.
 inline constexpr double kSelfGamma = 0.42;
 /// The detection looks this many contact distances around each element.
-inline constexpr double kSelfRadius = 10.0;
+inline constexpr double kSelfRadius = 4.0;
 /// The candidate lists look this many contact distances farther (a Verlet list's skin): they
 /// hold until a mass has moved half of it, apart from the cloth's common move.
-inline constexpr double kSelfSkin = 6.0;
+inline constexpr double kSelfSkin = 4.0;
 /// Passes of pushes and bounds after each step.
 inline constexpr int kSelfPasses = 2;
 /// A detection runs before a step in which a mass moving at its speed times this would
@@ -33,16 +33,23 @@ inline constexpr double kSelfLookAhead = 2.0;
 /// it at least `target` long.
 struct SelfPair {
   std::uint32_t mass[4];
-  double target;  ///< m: the contact distance, or the pair's distance at rest when smaller
-  double gap;     ///< m: the distance at detection
+  double target;  ///< m: the contact distance, or the pair's distance at rest when smaller (-1: not yet measured)
+  double gap;     ///< m: the distance at the last detection that measured it
+  double built;   ///< m: the distance when the candidate lists were built
 };
 
 struct SelfScratch {
   std::vector<std::uint32_t> triangles, edges;  ///< (3 t), (2 e) mass indices; edges once each
   SelfBvh triangle_tree, edge_tree;
   std::uint32_t builds = 0;       ///< candidate lists built (the trees are rebuilt every few)
-  std::vector<SelfPair> cand_vt, cand_ee;  ///< every pair within radius + skin at xl
+  std::vector<SelfPair> cand_vt, cand_ee;  ///< every pair within far + skin at xl
   Eigen::Matrix3Xd xl;            ///< (3 x n) the positions the candidates were found at
+  std::vector<double> moved;      ///< (n) m, each mass's move since xl apart from the common move
+  std::vector<double> nearest;    ///< (n) m, each mass's least candidate distance at xl (inf: none)
+  std::vector<std::uint32_t> first, incident;  ///< (n + 1), (4 pairs) each mass's candidates (vt, then ee)
+  std::vector<std::uint32_t> stamp;  ///< (pairs) the detection that last measured each candidate
+  std::vector<std::uint32_t> active; ///< the candidates this detection measures
+  std::uint32_t detections = 0;
   Eigen::Matrix3Xd xd;            ///< (3 x n) the positions at the last detection
   Eigen::Matrix3Xd xs, xpre, vpre;  ///< (3 x n) at the step's start; before the stage's moves
   std::vector<std::uint8_t> held;     ///< (n) 1 if the stage held the mass at its bound this step
@@ -56,6 +63,7 @@ struct SelfScratch {
   std::vector<std::vector<SelfPair>> found;  ///< per thread, while detecting
   double distance = 0.0;          ///< m, the contact distance between layers
   double radius = 0.0;            ///< m, how far a detection looks
+  double far = 0.0;               ///< m, beyond this a pair neither bounds a mass nor comes into contact
   double skin = 0.0;              ///< m, how much farther the candidate lists look
   bool detect = true;             ///< detect before the next step
 };

@@ -2,7 +2,9 @@
 // against the edges it shares no mass with, within the detection radius; each mass's bound is
 // kSelfGamma times its distance to the nearest such element (its own, or one of its faces' or
 // edges'), at most the radius. The pairs come from candidate lists (a Verlet list) that hold
-// every pair within the radius and a skin, found again once a mass has moved half the skin.
+// every pair within `far` and a skin, found again once a mass has moved half the skin; a
+// detection measures only the candidates of the masses that may have come within `far` of one
+// (their least distance in the lists less twice their move since).
 #include "parallel.hpp"
 #include "self_contact.hpp"
 
@@ -30,16 +32,13 @@ void find_pairs(std::size_t count, SelfScratch& sc, const Workspace& ws, std::ve
   for (const auto& f : sc.found) out.insert(out.end(), f.begin(), f.end());
 }
 
-// A found pair: kept when nearer than r, with its target: the contact distance, or its
-// distance at rest when that is less.
-void keep(const Model& m, const Eigen::Matrix3Xd& x, double r, std::array<std::uint32_t, 4> masses,
-          bool vertex_triangle, double distance, std::vector<SelfPair>& out) {
-  SelfPair p{{masses[0], masses[1], masses[2], masses[3]}, 0.0, 0.0};
+// A found pair: kept when nearer than r. Its target is found when it is first measured.
+void keep(const Eigen::Matrix3Xd& x, double r, std::array<std::uint32_t, 4> masses, bool vertex_triangle,
+          std::vector<SelfPair>& out) {
+  SelfPair p{{masses[0], masses[1], masses[2], masses[3]}, -1.0, 0.0, 0.0};
   double coef[4];
-  p.gap = pair_gap(x, p.mass, vertex_triangle, coef).norm();
-  if (!(p.gap < r)) return;
-  p.target = std::min(distance, pair_gap(m.x0, p.mass, vertex_triangle, coef).norm());
-  out.push_back(p);
+  p.gap = p.built = pair_gap(x, p.mass, vertex_triangle, coef).norm();
+  if (p.gap < r) out.push_back(p);
 }
 
 // Whether the box of masses m[0 .. k) meets [lo, hi].
@@ -55,18 +54,56 @@ bool box_meets(const double* x, const std::uint32_t* m, int k, const double lo[3
   return true;
 }
 
-// The candidates that can come within their target before the next detection (their gap
-// less the bounds of their masses).
-void keep_reachable(const SelfScratch& sc, const std::vector<SelfPair>& candidates, std::vector<SelfPair>& out) {
-  out.clear();
-  for (const SelfPair& p : candidates) {
+// The measured candidates that can come within their target before the next detection (their
+// gap less the bounds of their masses).
+void keep_reachable(SelfScratch& sc) {
+  sc.vt.clear(), sc.ee.clear();
+  const std::size_t nvt = sc.cand_vt.size();
+  for (std::uint32_t j : sc.active) {
+    const SelfPair& p = j < nvt ? sc.cand_vt[j] : sc.cand_ee[j - nvt];
     double reach = 0.0;
     for (std::uint32_t i : p.mass) reach = std::max(reach, std::isinf(sc.bound[i]) ? sc.pin_move[i] : sc.bound[i]);
-    if (p.gap - 2.0 * reach < p.target) out.push_back(p);
+    if (p.gap - 2.0 * reach < p.target) (j < nvt ? sc.vt : sc.ee).push_back(p);
   }
 }
 
-// The candidate lists at positions x: every pair within the radius and the skin.
+// Each mass's move since the candidate lists were built, apart from the cloth's common move (a
+// gap does not change when everything moves alike). Whether the lists still hold every pair
+// within `far`: no mass has moved more than half the skin.
+bool candidates_hold(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc) {
+  if (sc.xl.cols() != x.cols()) return false;
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < m.mass_count(); ++i)
+    if (sc.in_face[i]) shift += x.col(static_cast<Eigen::Index>(i)) - sc.xl.col(static_cast<Eigen::Index>(i));
+  shift /= static_cast<double>(sc.faced);
+  bool hold = true;
+  for (std::size_t i = 0; i < m.mass_count(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    sc.moved[i] = sc.in_face[i] ? (x.col(k) - sc.xl.col(k) - shift).norm() : 0.0;
+    hold = hold && sc.moved[i] <= 0.5 * sc.skin;
+  }
+  return hold;
+}
+
+// Each mass's candidates (an index over both lists, vt first) and its least distance among them.
+void index_candidates(SelfScratch& sc, std::size_t n) {
+  const std::size_t nvt = sc.cand_vt.size(), pairs = nvt + sc.cand_ee.size();
+  const auto pair = [&](std::size_t j) -> const SelfPair& { return j < nvt ? sc.cand_vt[j] : sc.cand_ee[j - nvt]; };
+  sc.nearest.assign(n, std::numeric_limits<double>::infinity());
+  sc.first.assign(n + 1, 0);
+  for (std::size_t j = 0; j < pairs; ++j)
+    for (std::uint32_t i : pair(j).mass) ++sc.first[i + 1], sc.nearest[i] = std::min(sc.nearest[i], pair(j).built);
+  for (std::size_t i = 0; i < n; ++i) sc.first[i + 1] += sc.first[i];
+  sc.incident.resize(4 * pairs);
+  std::vector<std::uint32_t>& fill = sc.active;  // (a cursor per mass, reused)
+  fill.assign(sc.first.begin(), sc.first.end() - 1);
+  for (std::size_t j = 0; j < pairs; ++j)
+    for (std::uint32_t i : pair(j).mass) sc.incident[fill[i]++] = static_cast<std::uint32_t>(j);
+  sc.stamp.assign(pairs, 0);
+  std::fill(sc.moved.begin(), sc.moved.end(), 0.0);
+}
+
+// The candidate lists at positions x: every pair within `far` and the skin.
 void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace& ws) {
   if (sc.builds++ % 8 == 0) {  // the trees follow the cloth's shape: rebuilt now and then, else refitted
     sc.triangle_tree.build(x.data(), sc.triangles, 3);
@@ -75,7 +112,7 @@ void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc
     sc.triangle_tree.refit(x.data());
     sc.edge_tree.refit(x.data());
   }
-  const double r = sc.radius + sc.skin;
+  const double r = sc.far + sc.skin;
   find_pairs(m.mass_count(), sc, ws, sc.cand_vt, [&](std::size_t i, std::vector<SelfPair>& out) {
     if (!sc.in_face[i]) return;
     const auto v = static_cast<std::uint32_t>(i);
@@ -84,7 +121,7 @@ void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc
     sc.triangle_tree.query(lo, hi, [&](std::uint32_t t) {
       const std::uint32_t* c = &sc.triangles[3 * std::size_t{t}];
       if (c[0] != v && c[1] != v && c[2] != v && box_meets(x.data(), c, 3, lo, hi))
-        keep(m, x, r, {v, c[0], c[1], c[2]}, true, sc.distance, out);
+        keep(x, r, {v, c[0], c[1], c[2]}, true, out);
     });
   });
   find_pairs(sc.edges.size() / 2, sc, ws, sc.cand_ee, [&](std::size_t e, std::vector<SelfPair>& out) {
@@ -96,38 +133,42 @@ void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc
       if (f <= e) return;  // (each pair once)
       const std::uint32_t* cd = &sc.edges[2 * std::size_t{f}];
       if (cd[0] != a && cd[0] != b && cd[1] != a && cd[1] != b && box_meets(x.data(), cd, 2, lo, hi))
-        keep(m, x, r, {a, b, cd[0], cd[1]}, false, sc.distance, out);
+        keep(x, r, {a, b, cd[0], cd[1]}, false, out);
     });
   });
   sc.xl = x;
+  index_candidates(sc, m.mass_count());
 }
 
-// Whether the candidate lists still hold every pair within the detection radius: no mass has
-// moved more than half the skin since they were built, apart from the cloth's common move (a
-// gap does not change when everything moves alike).
-bool candidates_hold(const Model& m, const Eigen::Matrix3Xd& x, const SelfScratch& sc) {
-  if (sc.xl.cols() != x.cols()) return false;
-  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < m.mass_count(); ++i)
-    if (sc.in_face[i]) shift += x.col(static_cast<Eigen::Index>(i)) - sc.xl.col(static_cast<Eigen::Index>(i));
-  shift /= static_cast<double>(sc.faced);
-  const double limit = 0.25 * sc.skin * sc.skin;
+// The candidates to measure: those of every mass that may be nearer than `far` to one of its
+// candidates (its least distance at xl less twice its move), or whose pin moves. The others
+// are farther than `far` from each other.
+void choose_active(const Model& m, SelfScratch& sc, double far) {
+  ++sc.detections;
+  sc.active.clear();
   for (std::size_t i = 0; i < m.mass_count(); ++i) {
-    const auto k = static_cast<Eigen::Index>(i);
-    if (sc.in_face[i] && (x.col(k) - sc.xl.col(k) - shift).squaredNorm() > limit) return false;
+    if (sc.pin_move[i] == 0.0 && sc.nearest[i] - 2.0 * sc.moved[i] >= far) continue;
+    for (std::uint32_t k = sc.first[i]; k < sc.first[i + 1]; ++k) {
+      const std::uint32_t j = sc.incident[k];
+      if (sc.stamp[j] != sc.detections) sc.stamp[j] = sc.detections, sc.active.push_back(j);
+    }
   }
-  return true;
 }
 
-// The gaps of one candidate list at x (threads split it; each pair writes its own).
-void measure(std::vector<SelfPair>& pairs, bool vertex_triangle, const Eigen::Matrix3Xd& x, const Workspace& ws) {
-  const auto n = static_cast<std::int64_t>(pairs.size());
-  [[maybe_unused]] const int nt = team(ws, pairs.size());
+// The gaps of the active candidates at x (threads split them; each pair writes its own); a
+// pair measured for the first time takes its target: the contact distance, or its distance
+// at rest when that is less.
+void measure(const Model& m, SelfScratch& sc, const Eigen::Matrix3Xd& x, const Workspace& ws) {
+  const auto n = static_cast<std::int64_t>(sc.active.size());
+  const std::size_t nvt = sc.cand_vt.size();
+  [[maybe_unused]] const int nt = team(ws, sc.active.size());
 #pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
   for (std::int64_t i = 0; i < n; ++i) {
     double coef[4];
-    SelfPair& p = pairs[static_cast<std::size_t>(i)];
-    p.gap = pair_gap(x, p.mass, vertex_triangle, coef).norm();
+    const std::uint32_t j = sc.active[static_cast<std::size_t>(i)];
+    SelfPair& p = j < nvt ? sc.cand_vt[j] : sc.cand_ee[j - nvt];
+    p.gap = pair_gap(x, p.mass, j < nvt, coef).norm();
+    if (p.target < 0.0) p.target = std::min(sc.distance, pair_gap(m.x0, p.mass, j < nvt, coef).norm());
   }
 }
 
@@ -150,6 +191,9 @@ std::shared_ptr<SelfScratch> make_self_scratch(const Model& model) {
   for (const auto& [a, b] : edges) sc->edges.push_back(a), sc->edges.push_back(b);
   sc->distance = model.contact.distance;
   sc->radius = kSelfRadius * sc->distance;
+  // A pair farther than the radius bounds no mass below it; bounds of at most kSelfGamma times
+  // the radius keep a pair this far beyond the contact distance until the next detection.
+  sc->far = std::max(sc->radius, sc->distance + 2.0 * kSelfGamma * sc->radius);
   sc->skin = kSelfSkin * sc->distance;
   const auto n = static_cast<Eigen::Index>(model.mass_count());
   sc->xd = sc->xs = sc->xpre = sc->vpre = Eigen::Matrix3Xd::Zero(3, n);
@@ -157,6 +201,7 @@ std::shared_ptr<SelfScratch> make_self_scratch(const Model& model) {
   sc->pin_move.assign(model.mass_count(), 0.0);
   sc->weight.assign(model.mass_count(), 0.0);
   sc->held.assign(model.mass_count(), 0);
+  sc->moved.assign(model.mass_count(), 0.0);
   return sc;
 }
 
@@ -164,9 +209,6 @@ std::shared_ptr<SelfScratch> make_self_scratch(const Model& model) {
 // target before the next detection.
 void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, const Workspace& ws) {
   const Eigen::Matrix3Xd& x = state.x;
-  if (!candidates_hold(m, x, sc)) build_candidates(m, x, sc, ws);
-  measure(sc.cand_vt, true, x, ws);
-  measure(sc.cand_ee, false, x, ws);
   // A pinned mass moves as its pin does (its speed over the step: a pin that turns); the free
   // masses of its pairs take what is left of the gap. A moving pin asks for a detection every step.
   sc.pins_move = false;
@@ -176,16 +218,19 @@ void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, 
     sc.pins_move = sc.pins_move || move > 0.0;
     sc.bound[i] = sc.in_face[i] && !m.pinned[i] ? sc.radius : std::numeric_limits<double>::infinity();
   }
-  for (const auto* list : {&sc.cand_vt, &sc.cand_ee})
-    for (const SelfPair& p : *list) {
-      double pinned = 0.0;
-      for (std::uint32_t i : p.mass) pinned = std::max(pinned, sc.pin_move[i]);
-      for (std::uint32_t i : p.mass)
-        if (!m.pinned[i]) sc.bound[i] = std::min(sc.bound[i], std::max(0.0, p.gap - pinned));
-    }
+  if (!candidates_hold(m, x, sc)) build_candidates(m, x, sc, ws);
+  choose_active(m, sc, sc.far);
+  measure(m, sc, x, ws);
+  const std::size_t nvt = sc.cand_vt.size();
+  for (std::uint32_t j : sc.active) {
+    const SelfPair& p = j < nvt ? sc.cand_vt[j] : sc.cand_ee[j - nvt];
+    double pinned = 0.0;
+    for (std::uint32_t i : p.mass) pinned = std::max(pinned, sc.pin_move[i]);
+    for (std::uint32_t i : p.mass)
+      if (!m.pinned[i]) sc.bound[i] = std::min(sc.bound[i], std::max(0.0, p.gap - pinned));
+  }
   for (std::size_t i = 0; i < m.mass_count(); ++i) sc.bound[i] *= kSelfGamma;
-  keep_reachable(sc, sc.cand_vt, sc.vt);
-  keep_reachable(sc, sc.cand_ee, sc.ee);
+  keep_reachable(sc);
   sc.xd = x;
   sc.detect = false;
 }
