@@ -66,15 +66,21 @@ void SelfBvh::build(const double* x, std::span<const std::uint32_t> prim_corners
 
 void SelfBvh::refit(const double* x) {
   const auto kk = static_cast<std::size_t>(k);
+  box.resize(order.size());
   for (std::size_t i = nodes.size(); i-- > 0;) {
     Node& nd = nodes[i];
     if (nd.count > 0) {
       nd.lo.fill(std::numeric_limits<double>::infinity()), nd.hi.fill(-std::numeric_limits<double>::infinity());
-      for (std::uint32_t j = nd.first; j < nd.first + nd.count; ++j)
+      for (std::uint32_t j = nd.first; j < nd.first + nd.count; ++j) {
+        auto& b = box[j];
+        constexpr double inf = std::numeric_limits<double>::infinity();
+        b = {inf, inf, inf, -inf, -inf, -inf};
         for (std::size_t c = 0; c < kk; ++c) {
           const double* p = x + 3 * std::size_t{corners[order[j] * kk + c]};
-          for (int a = 0; a < 3; ++a) nd.lo[a] = std::min(nd.lo[a], p[a]), nd.hi[a] = std::max(nd.hi[a], p[a]);
+          for (std::size_t a = 0; a < 3; ++a) b[a] = std::min(b[a], p[a]), b[a + 3] = std::max(b[a + 3], p[a]);
         }
+        for (std::size_t a = 0; a < 3; ++a) nd.lo[a] = std::min(nd.lo[a], b[a]), nd.hi[a] = std::max(nd.hi[a], b[a + 3]);
+      }
     } else {
       const Node& l = nodes[i + 1];
       const Node& r = nodes[nd.next];

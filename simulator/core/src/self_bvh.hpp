@@ -19,6 +19,7 @@ struct SelfBvh {
   };
   std::vector<Node> nodes;
   std::vector<std::uint32_t> order;  ///< the primitives, leaf by leaf
+  std::vector<std::array<double, 6>> box;  ///< each primitive's box (lo, hi), in `order`
   std::span<const std::uint32_t> corners;  ///< k mass indices per primitive
   int k = 3;
 
@@ -39,7 +40,10 @@ struct SelfBvh {
       const bool meets = nd.lo[0] <= hi[0] && nd.hi[0] >= lo[0] && nd.lo[1] <= hi[1] && nd.hi[1] >= lo[1] &&
                          nd.lo[2] <= hi[2] && nd.hi[2] >= lo[2];
       if (meets && nd.count > 0) {
-        for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) f(order[i]);
+        for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
+          const auto& b = box[i];
+          if (b[0] <= hi[0] && b[3] >= lo[0] && b[1] <= hi[1] && b[4] >= lo[1] && b[2] <= hi[2] && b[5] >= lo[2]) f(order[i]);
+        }
       } else if (meets) {
         stack[top++] = nd.next;
         n = n + 1;

@@ -21,8 +21,9 @@ namespace {
 // Finds the pairs of one kind on the Workspace's threads; the per-thread lists join in the
 // serial order, so the result is the same for any thread count.
 template <class Each>
-void find_pairs(std::size_t count, SelfScratch& sc, const Workspace& ws, std::vector<SelfPair>& out, Each each) {
-  [[maybe_unused]] const int nt = team(ws, 4 * count);
+void find_pairs(std::size_t count, std::size_t work, SelfScratch& sc, const Workspace& ws, std::vector<SelfPair>& out,
+                Each each) {
+  [[maybe_unused]] const int nt = team(ws, work);
   sc.found.resize(static_cast<std::size_t>(std::max(nt, 1)));
   for (auto& f : sc.found) f.clear();
   const auto n = static_cast<std::int64_t>(count);
@@ -39,19 +40,6 @@ void keep(const Eigen::Matrix3Xd& x, double r, std::array<std::uint32_t, 4> mass
   double coef[4];
   p.gap = p.built = pair_gap(x, p.mass, vertex_triangle, coef).norm();
   if (p.gap < r) out.push_back(p);
-}
-
-// Whether the box of masses m[0 .. k) meets [lo, hi].
-bool box_meets(const double* x, const std::uint32_t* m, int k, const double lo[3], const double hi[3]) {
-  for (int axis = 0; axis < 3; ++axis) {
-    double mn = x[3 * std::size_t{m[0]} + static_cast<std::size_t>(axis)], mx = mn;
-    for (int j = 1; j < k; ++j) {
-      const double v = x[3 * std::size_t{m[j]} + static_cast<std::size_t>(axis)];
-      mn = std::min(mn, v), mx = std::max(mx, v);
-    }
-    if (mn > hi[axis] || mx < lo[axis]) return false;
-  }
-  return true;
 }
 
 // The measured candidates that can come within their target before the next detection (their
@@ -113,18 +101,17 @@ void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc
     sc.edge_tree.refit(x.data());
   }
   const double r = sc.far + sc.skin;
-  find_pairs(m.mass_count(), sc, ws, sc.cand_vt, [&](std::size_t i, std::vector<SelfPair>& out) {
+  find_pairs(m.mass_count(), 4 * m.mass_count(), sc, ws, sc.cand_vt, [&](std::size_t i, std::vector<SelfPair>& out) {
     if (!sc.in_face[i]) return;
     const auto v = static_cast<std::uint32_t>(i);
     const double* p = x.data() + 3 * i;
     const double lo[3] = {p[0] - r, p[1] - r, p[2] - r}, hi[3] = {p[0] + r, p[1] + r, p[2] + r};
     sc.triangle_tree.query(lo, hi, [&](std::uint32_t t) {
       const std::uint32_t* c = &sc.triangles[3 * std::size_t{t}];
-      if (c[0] != v && c[1] != v && c[2] != v && box_meets(x.data(), c, 3, lo, hi))
-        keep(x, r, {v, c[0], c[1], c[2]}, true, out);
+      if (c[0] != v && c[1] != v && c[2] != v) keep(x, r, {v, c[0], c[1], c[2]}, true, out);
     });
   });
-  find_pairs(sc.edges.size() / 2, sc, ws, sc.cand_ee, [&](std::size_t e, std::vector<SelfPair>& out) {
+  find_pairs(sc.edges.size() / 2, 2 * sc.edges.size(), sc, ws, sc.cand_ee, [&](std::size_t e, std::vector<SelfPair>& out) {
     const std::uint32_t a = sc.edges[2 * e], b = sc.edges[2 * e + 1];
     const double *pa = x.data() + 3 * std::size_t{a}, *pb = x.data() + 3 * std::size_t{b};
     double lo[3], hi[3];
@@ -132,8 +119,7 @@ void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc
     sc.edge_tree.query(lo, hi, [&](std::uint32_t f) {
       if (f <= e) return;  // (each pair once)
       const std::uint32_t* cd = &sc.edges[2 * std::size_t{f}];
-      if (cd[0] != a && cd[0] != b && cd[1] != a && cd[1] != b && box_meets(x.data(), cd, 2, lo, hi))
-        keep(x, r, {a, b, cd[0], cd[1]}, false, out);
+      if (cd[0] != a && cd[0] != b && cd[1] != a && cd[1] != b) keep(x, r, {a, b, cd[0], cd[1]}, false, out);
     });
   });
   sc.xl = x;
