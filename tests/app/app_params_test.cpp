@@ -1,11 +1,15 @@
-// run_app() on a scene that bakes a value the simulator refuses (PARAMS dt=-1): the message
-// says the scene bakes it, and the command line can override it.
+// run_app() on scenes filled by hand: a baked value the simulator refuses (PARAMS dt=-1: the
+// message says the scene bakes it, and the command line can override it), a baked gravity, a
+// scene without cloth, a cloth that starts through itself.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <clothsim/self_crossings.hpp>
 
 #include "../viewer/hand_scene.hpp"
 #include "app.hpp"
@@ -92,6 +96,30 @@ TEST(AppParams, ASceneWithoutClothRunsAndSaysSo) {
   text << in.rdbuf();
   EXPECT_NE(text.str().find("\"masses\": 0"), std::string::npos) << text.str();
   EXPECT_NE(text.str().find("\"finite\": true"), std::string::npos) << text.str();
+}
+
+// A cloth that starts through itself: named at start-up with its count when self-contact is
+// on (it cannot be undone), and the run goes on; with self-contact off, nothing to say.
+TEST(AppParams, AClothThatStartsThroughItselfIsNamedAtStart) {
+  clothsim::testing::HandScene hand(6);
+  // a corner mass and its neighbour put on either side of the cloth's middle: their edge
+  // passes through triangles it shares no mass with
+  for (std::vector<float>* xyz : {&hand.positions, &hand.rest}) {
+    const float moved[6] = {0.05f, 0.9f, 0.05f, 0.05f, 1.5f, 0.07f};
+    std::copy(moved, moved + 6, xyz->begin());
+  }
+  Eigen::Matrix3Xd x(3, static_cast<Eigen::Index>(hand.rest.size() / 3));
+  for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] = hand.rest[static_cast<std::size_t>(i)];
+  const std::size_t crossings = clothsim::count_self_crossings(x, hand.triangles).crossings;
+  ASSERT_GT(crossings, 0u);
+  std::string err;
+  EXPECT_EQ(run(hand.scene, {"--headless", "--quiet", "--steps", "3"}, err), 0) << err;
+  EXPECT_NE(err.find("warning: the cloth starts with " + std::to_string(crossings) + " self-crossings"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("cannot undo these"), std::string::npos) << err;
+  EXPECT_EQ(run(hand.scene, {"--headless", "--quiet", "--steps", "3", "--self-collision", "off"}, err), 0) << err;
+  EXPECT_EQ(err.find("self-crossings"), std::string::npos) << err;
 }
 
 }  // namespace
