@@ -14,8 +14,19 @@ namespace clothsim::detail {
 
 namespace {
 
+// How far each mass is from where it was at the detection.
+void measure_away(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
+  for (Eigen::Index i = 0; i < x.cols(); ++i) sc.away[static_cast<std::size_t>(i)] = (x.col(i) - sc.xd.col(i)).norm();
+}
+
 // Pushes one pair apart to its target, with friction on the relative tangential move since xs.
-void separate(const Model& m, const SelfScratch& sc, const SelfPair& p, bool vertex_triangle, Eigen::Matrix3Xd& x) {
+// A pair whose gap at the detection less its masses' moves since is at least its target is
+// left alone without measuring it.
+void separate(const Model& m, SelfScratch& sc, const SelfPair& p, bool vertex_triangle, Eigen::Matrix3Xd& x) {
+  const std::uint32_t* q = p.mass;
+  const double closed = vertex_triangle ? sc.away[q[0]] + std::max({sc.away[q[1]], sc.away[q[2]], sc.away[q[3]]})
+                                        : std::max(sc.away[q[0]], sc.away[q[1]]) + std::max(sc.away[q[2]], sc.away[q[3]]);
+  if (p.gap - closed >= p.target) return;
   double c[4];
   const Eigen::Vector3d g = pair_gap(x, p.mass, vertex_triangle, c);
   const double gap = g.norm();
@@ -31,7 +42,10 @@ void separate(const Model& m, const SelfScratch& sc, const SelfPair& p, bool ver
   const double slide = tangent.norm(), mu_s = m.contact.static_friction, mu_k = m.contact.friction;
   const double keep = slide <= mu_s * depth ? 1.0 : (slide > 0.0 ? std::min(1.0, mu_k * depth / slide) : 0.0);
   const Eigen::Vector3d dg = depth * n - keep * tangent;  // the change of the gap vector
-  for (int k = 0; k < 4; ++k) x.col(p.mass[k]) += (c[k] * w[k] / wsum) * dg;
+  for (int k = 0; k < 4; ++k) {
+    x.col(q[k]) += (c[k] * w[k] / wsum) * dg;
+    sc.away[q[k]] = (x.col(q[k]) - sc.xd.col(q[k])).norm();
+  }
 }
 
 }  // namespace
@@ -78,6 +92,7 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h,
   const bool springs = model.options.integrator == Integrator::XPBD;
   for (int pass = 0; pass < (push ? kSelfPasses : 1); ++pass) {
     if (push) {
+      measure_away(sc, state.x);
       for (const SelfPair& p : sc.vt) separate(model, sc, p, true, state.x);
       for (const SelfPair& p : sc.ee) separate(model, sc, p, false, state.x);
     }

@@ -54,6 +54,7 @@ struct SelfScratch {
   Eigen::Matrix3Xd xs, xpre, vpre;  ///< (3 x n) at the step's start; before the stage's moves
   std::vector<std::uint8_t> held;     ///< (n) 1 if the stage held the mass at its bound this step
   std::vector<double> bound;      ///< (n) m, how far each mass may be from xd (inf: pinned or in no face)
+  std::vector<double> away;       ///< (n) m, how far each mass is from xd, while pushing
   std::vector<double> weight;     ///< (n) 1/kg, the inverse masses with the held masses at 0
   std::vector<double> pin_move;   ///< (n) m, how far a pinned mass moves in the next step (0: free)
   bool pins_move = false;         ///< some pin turns: detect before every step

@@ -188,6 +188,7 @@ std::shared_ptr<SelfScratch> make_self_scratch(const Model& model) {
   sc->weight.assign(model.mass_count(), 0.0);
   sc->held.assign(model.mass_count(), 0);
   sc->moved.assign(model.mass_count(), 0.0);
+  sc->away.assign(model.mass_count(), 0.0);
   return sc;
 }
 
