@@ -2,7 +2,8 @@
 // the close pairs are pushed apart to their target distance as position constraints, with
 // Coulomb friction on their relative tangential move over the step (as on the colliders);
 // then every mass is held within its bound of the last detection, which keeps any two
-// elements from meeting; the velocities take the moves.
+// elements from meeting; the velocities take the moves. Strain limiting's result is reached
+// in a few moves, each within bounds found where it starts.
 #include "parallel.hpp"
 #include "self_contact.hpp"
 #include "stages.hpp"
@@ -81,7 +82,32 @@ bool hold(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, const Worksp
 
 }  // namespace
 
-void self_contact_end(const Model& model, State& state, Workspace& ws, double h, bool push) {
+void limit_strain_within_bounds(const Model& model, State& state, Workspace& ws, double h) {
+  SelfScratch& sc = *ws.self;
+  sc.xpre = state.x;
+  limit_strain(model, state, ws);
+  sc.xlim = state.x;
+  state.x = sc.xpre;
+  bool reached = false;
+  for (int move = 0; move <= kSelfLimiterMoves && !reached; ++move) {
+    if (move > 0) detect_self(model, state, h, sc, ws);  // (the first move within the step's bounds)
+    reached = true;
+    for (Eigen::Index i = 0; i < state.x.cols(); ++i) {
+      const Eigen::Vector3d d = sc.xlim.col(i) - sc.xd.col(i);
+      const double b = sc.bound[static_cast<std::size_t>(i)], len = d.norm();
+      const bool short_of = len > b && model.inv_mass[i] != 0.0;
+      state.x.col(i) = short_of ? Eigen::Vector3d(sc.xd.col(i) + (b / len) * d) : Eigen::Vector3d(sc.xlim.col(i));
+      reached = reached && !short_of;
+    }
+  }
+  // Detect again when a mass may reach its bound in the next step.
+  for (Eigen::Index i = 0; i < state.x.cols() && !sc.detect; ++i) {
+    const double b = sc.bound[static_cast<std::size_t>(i)];
+    sc.detect = (state.x.col(i) - sc.xd.col(i)).norm() + kSelfLookAhead * h * state.v.col(i).norm() > b;
+  }
+}
+
+void self_contact_end(const Model& model, State& state, Workspace& ws, double h) {
   SelfScratch& sc = *ws.self;
   sc.xpre = state.x;
   sc.vpre = state.v;
@@ -90,12 +116,10 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h,
   // XPBD the springs then take their length again with the held masses locked, so that a held
   // mass does not leave its neighbours pulling at it (which would feed the springs energy).
   const bool springs = model.options.integrator == Integrator::XPBD;
-  for (int pass = 0; pass < (push ? kSelfPasses : 1); ++pass) {
-    if (push) {
-      measure_away(sc, state.x);
-      for (const SelfPair& p : sc.vt) separate(model, sc, p, true, state.x);
-      for (const SelfPair& p : sc.ee) separate(model, sc, p, false, state.x);
-    }
+  for (int pass = 0; pass < kSelfPasses; ++pass) {
+    measure_away(sc, state.x);
+    for (const SelfPair& p : sc.vt) separate(model, sc, p, true, state.x);
+    for (const SelfPair& p : sc.ee) separate(model, sc, p, false, state.x);
     std::copy(model.inv_mass.data(), model.inv_mass.data() + model.inv_mass.size(), sc.weight.begin());
     if (hold(model, sc, state.x, ws) && springs) {
       relax_structural(model, state.x, sc.weight.data(), ws, h);

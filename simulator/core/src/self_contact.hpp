@@ -24,6 +24,8 @@ inline constexpr double kSelfRadius = 4.0;
 inline constexpr double kSelfSkin = 4.0;
 /// Passes of pushes and bounds after each step.
 inline constexpr int kSelfPasses = 2;
+/// Moves, each within bounds found where it starts, toward strain limiting's result.
+inline constexpr int kSelfLimiterMoves = 3;
 /// A detection runs before a step in which a mass moving at its speed times this would
 /// pass its bound.
 inline constexpr double kSelfLookAhead = 2.0;
@@ -52,6 +54,7 @@ struct SelfScratch {
   std::uint32_t detections = 0;
   Eigen::Matrix3Xd xd;            ///< (3 x n) the positions at the last detection
   Eigen::Matrix3Xd xs, xpre, vpre;  ///< (3 x n) at the step's start; before the stage's moves
+  Eigen::Matrix3Xd xlim;          ///< (3 x n) strain limiting's result, while it is reached
   std::vector<std::uint8_t> held;     ///< (n) 1 if the stage held the mass at its bound this step
   std::vector<double> bound;      ///< (n) m, how far each mass may be from xd (inf: pinned or in no face)
   std::vector<double> away;       ///< (n) m, how far each mass is from xd, while pushing
@@ -96,9 +99,11 @@ void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, 
 /// Before the integrator and the pins' move: detects when the last step asked for it, keeps
 /// the start positions.
 void self_contact_begin(const Model& model, const State& state, Workspace& ws, double h);
+/// Strain limiting (limit_strain) with self-contact: its result is reached in up to
+/// kSelfLimiterMoves moves, each within bounds found where it starts.
+void limit_strain_within_bounds(const Model& model, State& state, Workspace& ws, double h);
 /// After the integrator: pushes close pairs apart to the contact distance with Coulomb
-/// friction (`push`), then holds every mass within its bound; the velocities take the pushes
-/// over h. Without `push` (after strain limiting): only the bounds.
-void self_contact_end(const Model& model, State& state, Workspace& ws, double h, bool push);
+/// friction, then holds every mass within its bound; the velocities take the pushes over h.
+void self_contact_end(const Model& model, State& state, Workspace& ws, double h);
 
 }  // namespace clothsim::detail

@@ -182,7 +182,7 @@ std::shared_ptr<SelfScratch> make_self_scratch(const Model& model) {
   sc->far = std::max(sc->radius, sc->distance + 2.0 * kSelfGamma * sc->radius);
   sc->skin = kSelfSkin * sc->distance;
   const auto n = static_cast<Eigen::Index>(model.mass_count());
-  sc->xd = sc->xs = sc->xpre = sc->vpre = Eigen::Matrix3Xd::Zero(3, n);
+  sc->xd = sc->xs = sc->xpre = sc->vpre = sc->xlim = Eigen::Matrix3Xd::Zero(3, n);
   sc->bound.assign(model.mass_count(), std::numeric_limits<double>::infinity());
   sc->pin_move.assign(model.mass_count(), 0.0);
   sc->weight.assign(model.mass_count(), 0.0);

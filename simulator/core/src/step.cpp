@@ -134,10 +134,10 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
     case Integrator::Auto: break;  // (resolved when the Model is built)
   }
   if (method != Integrator::XPBD) apply_friction(model, state, ws, h);  // (XPBD's is in its contact)
-  if (ws.self) self_contact_end(model, state, ws, h, true);
+  if (ws.self) self_contact_end(model, state, ws, h);
   if (air && last) air_drag(model, state, ws, 0.5 * model.options.dt);
-  if (last) limit_strain(model, state, ws);
-  if (last && ws.self) self_contact_end(model, state, ws, h, false);  // (the limiter's moves within the bounds)
+  if (last && ws.self && model.strain_limit > 0.0) limit_strain_within_bounds(model, state, ws, h);
+  else if (last) limit_strain(model, state, ws);
   restore_pins(state, ws);
   if (spin) spin_pin_velocities(model, state, ws);
   state.t += h;
