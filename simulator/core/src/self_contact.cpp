@@ -84,27 +84,16 @@ bool hold(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, const Worksp
 
 void limit_strain_within_bounds(const Model& model, State& state, Workspace& ws, double h) {
   SelfScratch& sc = *ws.self;
-  sc.xpre = state.x;
   limit_strain(model, state, ws);
   sc.xlim = state.x;
-  state.x = sc.xpre;
-  bool reached = false;
-  for (int move = 0; move <= kSelfLimiterMoves && !reached; ++move) {
-    if (move > 0) detect_self(model, state, h, sc, ws);  // (the first move within the step's bounds)
-    reached = true;
-    for (Eigen::Index i = 0; i < state.x.cols(); ++i) {
-      const Eigen::Vector3d d = sc.xlim.col(i) - sc.xd.col(i);
-      const double b = sc.bound[static_cast<std::size_t>(i)], len = d.norm();
-      const bool short_of = len > b && model.inv_mass[i] != 0.0;
-      state.x.col(i) = short_of ? Eigen::Vector3d(sc.xd.col(i) + (b / len) * d) : Eigen::Vector3d(sc.xlim.col(i));
-      reached = reached && !short_of;
-    }
+  // The first move within the step's bounds; each next one within bounds found where the
+  // last left the masses.
+  for (int move = 0; hold(model, sc, state.x, ws) && move < kSelfLimiterMoves; ++move) {
+    detect_self(model, state, h, sc, ws);
+    state.x = sc.xlim;
   }
   // Detect again when a mass may reach its bound in the next step.
-  for (Eigen::Index i = 0; i < state.x.cols() && !sc.detect; ++i) {
-    const double b = sc.bound[static_cast<std::size_t>(i)];
-    sc.detect = (state.x.col(i) - sc.xd.col(i)).norm() + kSelfLookAhead * h * state.v.col(i).norm() > b;
-  }
+  for (Eigen::Index i = 0; i < state.x.cols() && !sc.detect; ++i) sc.detect = nears_bound(sc, state.x, state.v, i, h);
 }
 
 void self_contact_end(const Model& model, State& state, Workspace& ws, double h) {
@@ -143,7 +132,7 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
     } else {
       state.v.col(i) += (state.x.col(i) - sc.xpre.col(i)) / h;
     }
-    near_bound = near_bound || out.norm() + kSelfLookAhead * h * state.v.col(i).norm() > b;
+    near_bound = near_bound || nears_bound(sc, state.x, state.v, i, h);
   }
   sc.detect = near_bound || sc.pins_move;
 }

@@ -89,6 +89,17 @@ inline Eigen::Vector3d pair_gap(const Eigen::Matrix3Xd& x, const std::uint32_t m
   return coef[0] * at(0) + coef[1] * at(1) + coef[2] * at(2) + coef[3] * at(3);
 }
 
+/// Candidate j of both lists (vt first).
+inline SelfPair& candidate(SelfScratch& sc, std::uint32_t j) {
+  return j < sc.cand_vt.size() ? sc.cand_vt[j] : sc.cand_ee[j - sc.cand_vt.size()];
+}
+
+/// Whether mass i, at x and moving at v for kSelfLookAhead steps of h, would pass its bound.
+inline bool nears_bound(const SelfScratch& sc, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, Eigen::Index i,
+                        double h) {
+  return (x.col(i) - sc.xd.col(i)).norm() + kSelfLookAhead * h * v.col(i).norm() > sc.bound[static_cast<std::size_t>(i)];
+}
+
 /// The stage's memory for a model with self-collision on and faces (else nullptr).
 std::shared_ptr<SelfScratch> make_self_scratch(const Model& model);
 

@@ -38,20 +38,19 @@ void keep(const Eigen::Matrix3Xd& x, double r, std::array<std::uint32_t, 4> mass
           std::vector<SelfPair>& out) {
   SelfPair p{{masses[0], masses[1], masses[2], masses[3]}, -1.0, 0.0, 0.0};
   double coef[4];
-  p.gap = p.built = pair_gap(x, p.mass, vertex_triangle, coef).norm();
-  if (p.gap < r) out.push_back(p);
+  p.built = pair_gap(x, p.mass, vertex_triangle, coef).norm();
+  if (p.built < r) out.push_back(p);
 }
 
 // The measured candidates that can come within their target before the next detection (their
 // gap less the bounds of their masses).
 void keep_reachable(SelfScratch& sc) {
   sc.vt.clear(), sc.ee.clear();
-  const std::size_t nvt = sc.cand_vt.size();
   for (std::uint32_t j : sc.active) {
-    const SelfPair& p = j < nvt ? sc.cand_vt[j] : sc.cand_ee[j - nvt];
+    const SelfPair& p = candidate(sc, j);
     double reach = 0.0;
     for (std::uint32_t i : p.mass) reach = std::max(reach, std::isinf(sc.bound[i]) ? sc.pin_move[i] : sc.bound[i]);
-    if (p.gap - 2.0 * reach < p.target) (j < nvt ? sc.vt : sc.ee).push_back(p);
+    if (p.gap - 2.0 * reach < p.target) (j < sc.cand_vt.size() ? sc.vt : sc.ee).push_back(p);
   }
 }
 
@@ -75,18 +74,17 @@ bool candidates_hold(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc)
 
 // Each mass's candidates (an index over both lists, vt first) and its least distance among them.
 void index_candidates(SelfScratch& sc, std::size_t n) {
-  const std::size_t nvt = sc.cand_vt.size(), pairs = nvt + sc.cand_ee.size();
-  const auto pair = [&](std::size_t j) -> const SelfPair& { return j < nvt ? sc.cand_vt[j] : sc.cand_ee[j - nvt]; };
+  const auto pairs = static_cast<std::uint32_t>(sc.cand_vt.size() + sc.cand_ee.size());
   sc.nearest.assign(n, std::numeric_limits<double>::infinity());
   sc.first.assign(n + 1, 0);
-  for (std::size_t j = 0; j < pairs; ++j)
-    for (std::uint32_t i : pair(j).mass) ++sc.first[i + 1], sc.nearest[i] = std::min(sc.nearest[i], pair(j).built);
+  for (std::uint32_t j = 0; j < pairs; ++j)
+    for (std::uint32_t i : candidate(sc, j).mass) ++sc.first[i + 1], sc.nearest[i] = std::min(sc.nearest[i], candidate(sc, j).built);
   for (std::size_t i = 0; i < n; ++i) sc.first[i + 1] += sc.first[i];
   sc.incident.resize(4 * pairs);
   std::vector<std::uint32_t>& fill = sc.active;  // (a cursor per mass, reused)
   fill.assign(sc.first.begin(), sc.first.end() - 1);
-  for (std::size_t j = 0; j < pairs; ++j)
-    for (std::uint32_t i : pair(j).mass) sc.incident[fill[i]++] = static_cast<std::uint32_t>(j);
+  for (std::uint32_t j = 0; j < pairs; ++j)
+    for (std::uint32_t i : candidate(sc, j).mass) sc.incident[fill[i]++] = j;
   sc.stamp.assign(pairs, 0);
   std::fill(sc.moved.begin(), sc.moved.end(), 0.0);
 }
@@ -146,15 +144,15 @@ void choose_active(const Model& m, SelfScratch& sc, double far) {
 // at rest when that is less.
 void measure(const Model& m, SelfScratch& sc, const Eigen::Matrix3Xd& x, const Workspace& ws) {
   const auto n = static_cast<std::int64_t>(sc.active.size());
-  const std::size_t nvt = sc.cand_vt.size();
   [[maybe_unused]] const int nt = team(ws, sc.active.size());
 #pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
   for (std::int64_t i = 0; i < n; ++i) {
     double coef[4];
     const std::uint32_t j = sc.active[static_cast<std::size_t>(i)];
-    SelfPair& p = j < nvt ? sc.cand_vt[j] : sc.cand_ee[j - nvt];
-    p.gap = pair_gap(x, p.mass, j < nvt, coef).norm();
-    if (p.target < 0.0) p.target = std::min(sc.distance, pair_gap(m.x0, p.mass, j < nvt, coef).norm());
+    SelfPair& p = candidate(sc, j);
+    const bool vertex_triangle = j < sc.cand_vt.size();
+    p.gap = pair_gap(x, p.mass, vertex_triangle, coef).norm();
+    if (p.target < 0.0) p.target = std::min(sc.distance, pair_gap(m.x0, p.mass, vertex_triangle, coef).norm());
   }
 }
 
@@ -208,9 +206,8 @@ void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, 
   if (!candidates_hold(m, x, sc)) build_candidates(m, x, sc, ws);
   choose_active(m, sc, sc.far);
   measure(m, sc, x, ws);
-  const std::size_t nvt = sc.cand_vt.size();
   for (std::uint32_t j : sc.active) {
-    const SelfPair& p = j < nvt ? sc.cand_vt[j] : sc.cand_ee[j - nvt];
+    const SelfPair& p = candidate(sc, j);
     double pinned = 0.0;
     for (std::uint32_t i : p.mass) pinned = std::max(pinned, sc.pin_move[i]);
     for (std::uint32_t i : p.mass)
