@@ -22,20 +22,24 @@ void measure_away(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
 
 // Pushes one pair apart to its target, with friction on the relative tangential move since xs.
 // A pair whose gap at the detection less its masses' moves since is at least its target is
-// left alone without measuring it.
-void separate(const Model& m, SelfScratch& sc, const SelfPair& p, bool vertex_triangle, Eigen::Matrix3Xd& x) {
+// left alone without measuring it. A pair that has passed to the other side of where it was
+// at the detection is pushed back to that side: the bounds put it back there anyway.
+void separate(const Model& m, SelfScratch& sc, const SelfContact& contact, bool vertex_triangle, Eigen::Matrix3Xd& x) {
+  const SelfPair& p = contact.pair;
   const std::uint32_t* q = p.mass;
   const double closed = vertex_triangle ? sc.away[q[0]] + std::max({sc.away[q[1]], sc.away[q[2]], sc.away[q[3]]})
                                         : std::max(sc.away[q[0]], sc.away[q[1]]) + std::max(sc.away[q[2]], sc.away[q[3]]);
   if (p.gap - closed >= p.target) return;
   double c[4];
   const Eigen::Vector3d g = pair_gap(x, p.mass, vertex_triangle, c);
-  const double gap = g.norm();
-  if (!(gap < p.target) || gap == 0.0) return;  // (no gap: no direction)
+  const double along = g.dot(contact.side);
+  const bool crossed = along <= 0.0 && contact.side.squaredNorm() > 0.0;
+  const double gap = crossed ? along : g.norm();
+  if (!(gap < p.target) || (gap == 0.0 && !crossed)) return;  // (no gap and no side: no direction)
   double wsum = 0.0, w[4];
   for (int k = 0; k < 4; ++k) w[k] = m.inv_mass[p.mass[k]], wsum += c[k] * c[k] * w[k];
   if (wsum == 0.0) return;
-  const Eigen::Vector3d n = g / gap;
+  const Eigen::Vector3d n = crossed ? contact.side : Eigen::Vector3d(g / gap);
   const double depth = p.target - gap;
   Eigen::Vector3d move = Eigen::Vector3d::Zero();  // the relative move over the step
   for (int k = 0; k < 4; ++k) move += c[k] * (x.col(p.mass[k]) - sc.xs.col(p.mass[k]));
@@ -80,6 +84,13 @@ bool hold(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, const Worksp
   return held;
 }
 
+// Every close pair pushed apart once, in order.
+void push_pairs(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x) {
+  measure_away(sc, x);
+  for (const SelfContact& p : sc.vt) separate(model, sc, p, true, x);
+  for (const SelfContact& p : sc.ee) separate(model, sc, p, false, x);
+}
+
 }  // namespace
 
 void limit_strain_within_bounds(const Model& model, State& state, Workspace& ws, double h) {
@@ -106,9 +117,7 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
   // mass does not leave its neighbours pulling at it (which would feed the springs energy).
   const bool springs = model.options.integrator == Integrator::XPBD;
   for (int pass = 0; pass < kSelfPasses; ++pass) {
-    measure_away(sc, state.x);
-    for (const SelfPair& p : sc.vt) separate(model, sc, p, true, state.x);
-    for (const SelfPair& p : sc.ee) separate(model, sc, p, false, state.x);
+    push_pairs(model, sc, state.x);
     std::copy(model.inv_mass.data(), model.inv_mass.data() + model.inv_mass.size(), sc.weight.begin());
     if (hold(model, sc, state.x, ws) && springs) {
       relax_structural(model, state.x, sc.weight.data(), ws, h);

@@ -40,6 +40,13 @@ struct SelfPair {
   double built;   ///< m: the distance when the candidate lists were built
 };
 
+/// A pair the response watches until the next detection, with the unit direction of its gap
+/// vector then (zero when the gap was 0): the side each element was on.
+struct SelfContact {
+  SelfPair pair;
+  Eigen::Vector3d side;
+};
+
 struct SelfScratch {
   std::vector<std::uint32_t> triangles, edges;  ///< (3 t), (2 e) mass indices; edges once each
   SelfBvh triangle_tree, edge_tree;
@@ -63,7 +70,7 @@ struct SelfScratch {
   bool pins_move = false;         ///< some pin turns: detect before every step
   std::vector<std::uint8_t> in_face;  ///< (n) 1 if the mass is a corner of a face
   std::size_t faced = 0;          ///< masses in a face
-  std::vector<SelfPair> vt, ee;   ///< the pairs of the last detection
+  std::vector<SelfContact> vt, ee;  ///< the pairs of the last detection
   std::vector<std::vector<SelfPair>> found;  ///< per thread, while detecting
   double distance = 0.0;          ///< m, the contact distance between layers
   double radius = 0.0;            ///< m, how far a detection looks

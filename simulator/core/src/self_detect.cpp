@@ -43,14 +43,19 @@ void keep(const Eigen::Matrix3Xd& x, double r, std::array<std::uint32_t, 4> mass
 }
 
 // The measured candidates that can come within their target before the next detection (their
-// gap less the bounds of their masses).
-void keep_reachable(SelfScratch& sc) {
+// gap less the bounds of their masses), each with the direction of its gap at x.
+void keep_reachable(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
   sc.vt.clear(), sc.ee.clear();
   for (std::uint32_t j : sc.active) {
     const SelfPair& p = candidate(sc, j);
     double reach = 0.0;
     for (std::uint32_t i : p.mass) reach = std::max(reach, std::isinf(sc.bound[i]) ? sc.pin_move[i] : sc.bound[i]);
-    if (p.gap - 2.0 * reach < p.target) (j < sc.cand_vt.size() ? sc.vt : sc.ee).push_back(p);
+    if (p.gap - 2.0 * reach >= p.target) continue;
+    const bool vertex_triangle = j < sc.cand_vt.size();
+    double coef[4];
+    const Eigen::Vector3d g = pair_gap(x, p.mass, vertex_triangle, coef);
+    const double len = g.norm();
+    (vertex_triangle ? sc.vt : sc.ee).push_back({p, len > 0.0 ? Eigen::Vector3d(g / len) : Eigen::Vector3d::Zero()});
   }
 }
 
@@ -214,7 +219,7 @@ void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, 
       if (!m.pinned[i]) sc.bound[i] = std::min(sc.bound[i], std::max(0.0, p.gap - pinned));
   }
   for (std::size_t i = 0; i < m.mass_count(); ++i) sc.bound[i] *= kSelfGamma;
-  keep_reachable(sc);
+  keep_reachable(sc, x);
   sc.xd = x;
   sc.detect = false;
 }
