@@ -19,9 +19,12 @@ namespace clothsim::detail {
 inline constexpr double kSelfGamma = 0.42;
 /// The detection looks this many contact distances around each element.
 inline constexpr double kSelfRadius = 4.0;
-/// The candidate lists look this many contact distances farther (a Verlet list's skin): they
-/// hold until a mass has moved half of it, apart from the cloth's common move.
-inline constexpr double kSelfSkin = 4.0;
+/// The candidate lists look farther by a skin (a Verlet list's): they hold until a mass has
+/// moved half of it, apart from the cloth's common move. The lists then reach at most this
+/// part of the mesh's typical shortest edge (its triangles' median), so that they hold few
+/// pairs of neighbouring elements of one layer; the skin is within these contact distances.
+inline constexpr double kSelfSkinReach = 0.75;
+inline constexpr double kSelfSkinLeast = 4.0, kSelfSkinMost = 8.0;
 /// Passes of pushes and bounds after each step.
 inline constexpr int kSelfPasses = 2;
 /// Moves, each within bounds found where it starts, toward strain limiting's result.

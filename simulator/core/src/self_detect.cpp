@@ -3,8 +3,8 @@
 // kSelfGamma times its distance to the nearest such element (its own, or one of its faces' or
 // edges'), at most the radius. The pairs come from candidate lists (a Verlet list) that hold
 // every pair within `far` and a skin, found again once a mass has moved half the skin; a
-// detection measures only the candidates of the masses that may have come within `far` of one
-// (their least distance in the lists less twice their move since).
+// detection measures only the candidates that may have come within `far` (their distance in
+// the lists less twice their masses' largest move since).
 #include "parallel.hpp"
 #include "self_contact.hpp"
 
@@ -129,17 +129,23 @@ void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc
   index_candidates(sc, m.mass_count());
 }
 
-// The candidates to measure: those of every mass that may be nearer than `far` to one of its
-// candidates (its least distance at xl less twice its move), or whose pin moves. The others
-// are farther than `far` from each other.
+// The candidates to measure: among those of every mass that may be nearer than `far` to one
+// of its candidates (its least distance at xl less twice its move), those whose distance at xl
+// less twice their masses' largest move is below `far`; all those of a pin that moves. The
+// others are farther than `far` apart.
 void choose_active(const Model& m, SelfScratch& sc, double far) {
   ++sc.detections;
   sc.active.clear();
   for (std::size_t i = 0; i < m.mass_count(); ++i) {
     if (sc.pin_move[i] == 0.0 && sc.nearest[i] - 2.0 * sc.moved[i] >= far) continue;
+    const bool pin = sc.pin_move[i] != 0.0;
     for (std::uint32_t k = sc.first[i]; k < sc.first[i + 1]; ++k) {
       const std::uint32_t j = sc.incident[k];
-      if (sc.stamp[j] != sc.detections) sc.stamp[j] = sc.detections, sc.active.push_back(j);
+      if (sc.stamp[j] == sc.detections) continue;
+      sc.stamp[j] = sc.detections;
+      const SelfPair& p = candidate(sc, j);
+      const double moved = std::max({sc.moved[p.mass[0]], sc.moved[p.mass[1]], sc.moved[p.mass[2]], sc.moved[p.mass[3]]});
+      if (pin || p.built - 2.0 * moved < far) sc.active.push_back(j);
     }
   }
 }
@@ -159,6 +165,21 @@ void measure(const Model& m, SelfScratch& sc, const Eigen::Matrix3Xd& x, const W
     p.gap = pair_gap(x, p.mass, vertex_triangle, coef).norm();
     if (p.target < 0.0) p.target = std::min(sc.distance, pair_gap(m.x0, p.mass, vertex_triangle, coef).norm());
   }
+}
+
+// The median over the triangles of each one's shortest edge, in the rest shape.
+double median_shortest_edge(const Model& m) {
+  std::vector<double> shortest;
+  for (std::size_t t = 0; t + 2 < m.triangles.size(); t += 3) {
+    double s = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < 3; ++k)
+      s = std::min(s, (m.x0.col(m.triangles[t + k]) - m.x0.col(m.triangles[t + (k + 1) % 3])).norm());
+    shortest.push_back(s);
+  }
+  if (shortest.empty()) return 0.0;
+  auto mid = shortest.begin() + static_cast<std::ptrdiff_t>(shortest.size() / 2);
+  std::nth_element(shortest.begin(), mid, shortest.end());
+  return *mid;
 }
 
 }  // namespace
@@ -183,7 +204,8 @@ std::shared_ptr<SelfScratch> make_self_scratch(const Model& model) {
   // A pair farther than the radius bounds no mass below it; bounds of at most kSelfGamma times
   // the radius keep a pair this far beyond the contact distance until the next detection.
   sc->far = std::max(sc->radius, sc->distance + 2.0 * kSelfGamma * sc->radius);
-  sc->skin = kSelfSkin * sc->distance;
+  sc->skin = std::clamp(kSelfSkinReach * median_shortest_edge(model) - sc->far, kSelfSkinLeast * sc->distance,
+                        kSelfSkinMost * sc->distance);
   const auto n = static_cast<Eigen::Index>(model.mass_count());
   sc->xd = sc->xs = sc->xpre = sc->vpre = sc->xlim = Eigen::Matrix3Xd::Zero(3, n);
   sc->bound.assign(model.mass_count(), std::numeric_limits<double>::infinity());
