@@ -138,14 +138,13 @@ void choose_active(const Model& m, SelfScratch& sc, double far) {
   sc.active.clear();
   for (std::size_t i = 0; i < m.mass_count(); ++i) {
     if (sc.pin_move[i] == 0.0 && sc.nearest[i] - 2.0 * sc.moved[i] >= far) continue;
-    const bool pin = sc.pin_move[i] != 0.0;
     for (std::uint32_t k = sc.first[i]; k < sc.first[i + 1]; ++k) {
       const std::uint32_t j = sc.incident[k];
       if (sc.stamp[j] == sc.detections) continue;
-      sc.stamp[j] = sc.detections;
-      const SelfPair& p = candidate(sc, j);
-      const double moved = std::max({sc.moved[p.mass[0]], sc.moved[p.mass[1]], sc.moved[p.mass[2]], sc.moved[p.mass[3]]});
-      if (pin || p.built - 2.0 * moved < far) sc.active.push_back(j);
+      sc.stamp[j] = sc.detections;  // (each pair decided once, on its own masses: any visiting order)
+      double moved = 0.0, pin = 0.0;
+      for (std::uint32_t q : candidate(sc, j).mass) moved = std::max(moved, sc.moved[q]), pin = std::max(pin, sc.pin_move[q]);
+      if (pin > 0.0 || candidate(sc, j).built - 2.0 * moved < far) sc.active.push_back(j);
     }
   }
 }
