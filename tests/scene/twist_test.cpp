@@ -24,7 +24,7 @@ TEST(TwistScene, EdgesTurnToTheClosedFormAngleAndTheClothFollows) {
     if (m.pinned[i]) pins.push_back(static_cast<Eigen::Index>(i));
   ASSERT_EQ(pins.size(), 2u * 41u) << "both edges, every vertex";
 
-  // (the first 1.5 s: later the pins squeeze the middle flat, docs/collision.md, "Limits")
+  // (the first 1.5 s; the whole 10 s takes minutes: docs/scenes.md, "twist")
   const double seconds = 1.5;
   const State s = test::run_for(m, seconds);
   ASSERT_TRUE(s.x.allFinite());

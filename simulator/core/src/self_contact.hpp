@@ -17,6 +17,10 @@ namespace clothsim::detail {
 /// not part of between two detections (Chen et al. 2024, 2025; Warp uses 0.42): two elements
 /// then close at most 2 * 0.42 of their gap, and never meet.
 inline constexpr double kSelfGamma = 0.42;
+/// No gap closes below this part of its pair's target: a free mass's bound is kSelfGamma
+/// times its pairs' gaps less it, so that a squeeze does not shrink gaps toward rounding. A
+/// pair with a moving pin takes none: its free masses would stand still while the pin turns.
+inline constexpr double kSelfLeastGap = 0.02;
 /// The detection looks this many contact distances around each element.
 inline constexpr double kSelfRadius = 4.0;
 /// The candidate lists look farther by a skin (a Verlet list's): they hold until a mass has

@@ -1,7 +1,7 @@
 // Self-contact detection: every mass against the triangles it is not a corner of, every edge
 // against the edges it shares no mass with, within the detection radius; each mass's bound is
 // kSelfGamma times its distance to the nearest such element (its own, or one of its faces' or
-// edges'), at most the radius. The pairs come from candidate lists (a Verlet list) that hold
+// edges') less the pair's least gap, at most the radius. The pairs come from candidate lists (a Verlet list) that hold
 // every pair within `far` and a skin, found again once a mass has moved half the skin; a
 // detection measures only the candidates that may have come within `far` (their distance in
 // the lists less twice their masses' largest move since).
@@ -236,8 +236,9 @@ void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, 
     const SelfPair& p = candidate(sc, j);
     double pinned = 0.0;
     for (std::uint32_t i : p.mass) pinned = std::max(pinned, sc.pin_move[i]);
+    const double room = p.gap - pinned - (pinned > 0.0 ? 0.0 : kSelfLeastGap * p.target);
     for (std::uint32_t i : p.mass)
-      if (!m.pinned[i]) sc.bound[i] = std::min(sc.bound[i], std::max(0.0, p.gap - pinned));
+      if (!m.pinned[i]) sc.bound[i] = std::min(sc.bound[i], std::max(0.0, room));
   }
   for (std::size_t i = 0; i < m.mass_count(); ++i) sc.bound[i] *= kSelfGamma;
   keep_reachable(sc, x);
