@@ -1,10 +1,10 @@
 // Self-contact detection: every mass against the triangles it is not a corner of, every edge
 // against the edges it shares no mass with, within the detection radius; each mass's bound is
 // kSelfGamma times its distance to the nearest such element (its own, or one of its faces' or
-// edges') less the pair's least gap, at most the radius. The pairs come from candidate lists (a Verlet list) that hold
-// every pair within `far` and a skin, found again once a mass has moved half the skin; a
-// detection measures only the candidates that may have come within `far` (their distance in
-// the lists less twice their masses' largest move since).
+// edges') less the pair's least gap, at most the radius. The pairs come from candidate lists
+// (a Verlet list) that hold every pair within `far` and a skin, found again once a mass has
+// moved half the skin; a detection measures only the candidates that may have come within
+// `far` (their distance in the lists less twice their masses' largest move since).
 #include "parallel.hpp"
 #include "self_contact.hpp"
 
