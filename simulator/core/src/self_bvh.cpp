@@ -89,4 +89,30 @@ void SelfBvh::refit(const double* x) {
   }
 }
 
+std::vector<SelfBvh::NodePair> SelfBvh::join_tasks(const SelfBvh& other, double r, std::size_t want) const {
+  std::vector<NodePair> tasks, next;
+  if (nodes.empty() || other.nodes.empty()) return tasks;
+  const bool self = &other == this;
+  tasks.push_back({0, 0});
+  // Each round splits every pair that has children, as join() would, until there are enough.
+  for (bool split = true; split && tasks.size() < want;) {
+    split = false;
+    next.clear();
+    for (const NodePair np : tasks) {
+      const Node &na = nodes[np.a], &nb = other.nodes[np.b];
+      if (!(self && np.a == np.b) && !near(na.lo, na.hi, nb.lo, nb.hi, r)) continue;
+      if (na.count > 0 && nb.count > 0) {
+        next.push_back(np);
+      } else {  // (in the order a join pops them: the lists come out as from one join of the roots)
+        const auto at = static_cast<std::ptrdiff_t>(next.size());
+        descend(other, np, na.count > 0, nb.count > 0, next);
+        std::reverse(next.begin() + at, next.end());
+        split = true;
+      }
+    }
+    tasks.swap(next);
+  }
+  return tasks;
+}
+
 }  // namespace clothsim::detail

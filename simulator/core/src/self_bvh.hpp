@@ -3,6 +3,7 @@
 // detection (the topology never changes), rebuilt when the shape has changed much.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <span>
@@ -27,6 +28,63 @@ struct SelfBvh {
   void build(const double* x, std::span<const std::uint32_t> prim_corners, int corners_per_prim);
   /// Refits every box to positions x.
   void refit(const double* x);
+
+  /// Two subtrees to join: a node of this tree and one of the other (or of this tree again).
+  struct NodePair {
+    std::uint32_t a, b;
+  };
+
+  /// Splits the join of this tree with `other` (the same object: a self-join) into node pairs,
+  /// about `want` of them, whose joins together give every pair once; independent of threads.
+  std::vector<NodePair> join_tasks(const SelfBvh& other, double r, std::size_t want) const;
+
+  /// Replaces node pair np in a descent of this tree against `other` by the pairs under it:
+  /// for a self pair (a, a), its children's three; else the children of the larger node that
+  /// is not whole (a leaf, or a node not to be split) against the other node.
+  void descend(const SelfBvh& other, NodePair np, bool a_whole, bool b_whole, std::vector<NodePair>& stack) const {
+    const auto [a, b] = np;
+    const Node &na = nodes[a], &nb = other.nodes[b];
+    if (&other == this && a == b) {
+      stack.push_back({a + 1, na.next}), stack.push_back({na.next, na.next}), stack.push_back({a + 1, a + 1});
+    } else if (b_whole || (!a_whole && extent(na) >= extent(nb))) {
+      stack.push_back({na.next, b}), stack.push_back({a + 1, b});
+    } else {
+      stack.push_back({a, nb.next}), stack.push_back({a, b + 1});
+    }
+  }
+
+  /// Calls f(p, q) for every primitive p under node pair np.a and q under np.b whose boxes,
+  /// p's grown by r, meet. A self-join gives each unordered pair p != q once.
+  template <class F>
+  void join(const SelfBvh& other, NodePair np, double r, F&& f) const {
+    const bool self = &other == this;
+    std::vector<NodePair> stack{np};
+    while (!stack.empty()) {
+      const auto [a, b] = stack.back();
+      stack.pop_back();
+      const Node &na = nodes[a], &nb = other.nodes[b];
+      if (!(self && a == b) && !near(na.lo, na.hi, nb.lo, nb.hi, r)) continue;
+      if (na.count > 0 && nb.count > 0) {
+        for (std::uint32_t i = na.first; i < na.first + na.count; ++i)
+          for (std::uint32_t j = self && a == b ? i + 1 : nb.first; j < nb.first + nb.count; ++j)
+            if (near(box[i], other.box[j], r)) f(order[i], other.order[j]);
+      } else {
+        descend(other, {a, b}, na.count > 0, nb.count > 0, stack);
+      }
+    }
+  }
+
+  /// Whether two boxes, the first grown by r, meet.
+  static bool near(const std::array<double, 3>& alo, const std::array<double, 3>& ahi,
+                   const std::array<double, 3>& blo, const std::array<double, 3>& bhi, double r) {
+    return alo[0] - r <= bhi[0] && ahi[0] + r >= blo[0] && alo[1] - r <= bhi[1] && ahi[1] + r >= blo[1] &&
+           alo[2] - r <= bhi[2] && ahi[2] + r >= blo[2];
+  }
+  static bool near(const std::array<double, 6>& p, const std::array<double, 6>& q, double r) {
+    return p[0] - r <= q[3] && p[3] + r >= q[0] && p[1] - r <= q[4] && p[4] + r >= q[1] && p[2] - r <= q[5] &&
+           p[5] + r >= q[2];
+  }
+  static double extent(const Node& n) { return std::max({n.hi[0] - n.lo[0], n.hi[1] - n.lo[1], n.hi[2] - n.lo[2]}); }
 
   /// Calls f(primitive) for every primitive whose box meets [lo, hi].
   template <class F>

@@ -8,6 +8,7 @@
 
 #include <clothsim/step.hpp>
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -23,12 +24,17 @@ inline constexpr double kSelfGamma = 0.42;
 inline constexpr double kSelfLeastGap = 0.02;
 /// The detection looks this many contact distances around each element.
 inline constexpr double kSelfRadius = 4.0;
-/// The candidate lists look farther by a skin (a Verlet list's): they hold until a mass has
-/// moved half of it, apart from the cloth's common move. The lists then reach at most this
+/// The candidate lists look farther by a skin (a Verlet list's): they hold until two masses
+/// have moved apart by it (self_lists.cpp). The lists then reach at most this
 /// part of the mesh's typical shortest edge (its triangles' median), so that they hold few
 /// pairs of neighbouring elements of one layer; the skin is within these contact distances.
 inline constexpr double kSelfSkinReach = 0.75;
 inline constexpr double kSelfSkinLeast = 4.0, kSelfSkinMost = 8.0;
+/// The candidate lists' moves are bounded per cluster of at most this many masses.
+inline constexpr std::uint32_t kSelfCluster = 16;
+inline constexpr std::uint32_t kNoCluster = 0xffffffffu;
+/// The candidate lists' joins split into this many parts for the threads.
+inline constexpr std::size_t kSelfJoinTasks = 256;
 /// Passes of pushes and bounds after each step.
 inline constexpr int kSelfPasses = 2;
 /// Moves, each within bounds found where it starts, toward strain limiting's result.
@@ -56,16 +62,22 @@ struct SelfContact {
 
 struct SelfScratch {
   std::vector<std::uint32_t> triangles, edges;  ///< (3 t), (2 e) mass indices; edges once each
-  SelfBvh triangle_tree, edge_tree;
+  std::vector<std::uint32_t> faced_masses;      ///< the masses in a face
+  SelfBvh mass_tree, triangle_tree, edge_tree;
   std::uint32_t builds = 0;       ///< candidate lists built (the trees are rebuilt every few)
   std::vector<SelfPair> cand_vt, cand_ee;  ///< every pair within far + skin at xl
   Eigen::Matrix3Xd xl;            ///< (3 x n) the positions the candidates were found at
-  std::vector<double> moved;      ///< (n) m, each mass's move since xl apart from the common move
-  std::vector<double> nearest;    ///< (n) m, each mass's least candidate distance at xl (inf: none)
-  std::vector<std::uint32_t> first, incident;  ///< (n + 1), (4 pairs) each mass's candidates (vt, then ee)
-  std::vector<std::uint32_t> stamp;  ///< (pairs) the detection that last measured each candidate
+  Eigen::Matrix3Xd dl;            ///< (3 x n) each mass's move since xl, at the last detection
+  std::vector<double> reach, node_reach;  ///< m, (n) each mass's longest edge at xl; (mass tree nodes) their masses' longest
+  std::vector<std::array<double, 6>> node_moved, triangle_moved, edge_moved;  ///< (each tree's nodes) the box of their masses' moves since xl
+  std::vector<SelfBvh::NodePair> node_pairs;      ///< the check's stack
+  std::vector<std::uint32_t> cluster_node, cluster_of;  ///< (clusters) a node of the mass tree; (n) each mass's cluster
+  std::vector<std::uint32_t> cluster_at;          ///< (mass tree nodes) the cluster a node is (kNoCluster: none)
+  std::vector<std::uint32_t> near_first, near;    ///< (clusters + 1), each cluster's neighbours at xl
+  std::vector<double> cluster_moved;  ///< (clusters) m, the most its masses and its neighbours' moved apart
+  std::vector<double> moved;      ///< (n) m, how much the gap of any of the mass's candidates may have changed since xl
   std::vector<std::uint32_t> active; ///< the candidates this detection measures
-  std::uint32_t detections = 0;
+  std::vector<std::vector<std::uint32_t>> chosen;  ///< per part of the lists, while choosing `active`
   Eigen::Matrix3Xd xd;            ///< (3 x n) the positions at the last detection
   Eigen::Matrix3Xd xs, xpre, vpre;  ///< (3 x n) at the step's start; before the stage's moves
   Eigen::Matrix3Xd xlim;          ///< (3 x n) strain limiting's result, while it is reached
@@ -76,9 +88,9 @@ struct SelfScratch {
   std::vector<double> pin_move;   ///< (n) m, how far a pinned mass moves in the next step (0: free)
   bool pins_move = false;         ///< some pin turns: detect before every step
   std::vector<std::uint8_t> in_face;  ///< (n) 1 if the mass is a corner of a face
-  std::size_t faced = 0;          ///< masses in a face
+  std::size_t faced = 0;          ///< masses in a face (faced_masses.size())
   std::vector<SelfContact> vt, ee;  ///< the pairs of the last detection
-  std::vector<std::vector<SelfPair>> found;  ///< per thread, while detecting
+  std::vector<std::vector<SelfPair>> found;  ///< per task, while building the candidate lists
   double distance = 0.0;          ///< m, the contact distance between layers
   double radius = 0.0;            ///< m, how far a detection looks
   double far = 0.0;               ///< m, beyond this a pair neither bounds a mass nor comes into contact
@@ -107,6 +119,9 @@ inline Eigen::Vector3d pair_gap(const Eigen::Matrix3Xd& x, const std::uint32_t m
 inline SelfPair& candidate(SelfScratch& sc, std::uint32_t j) {
   return j < sc.cand_vt.size() ? sc.cand_vt[j] : sc.cand_ee[j - sc.cand_vt.size()];
 }
+inline const SelfPair& candidate(const SelfScratch& sc, std::uint32_t j) {
+  return j < sc.cand_vt.size() ? sc.cand_vt[j] : sc.cand_ee[j - sc.cand_vt.size()];
+}
 
 /// Whether mass i, at x and moving at v for kSelfLookAhead steps of h, would pass its bound.
 inline bool nears_bound(const SelfScratch& sc, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, Eigen::Index i,
@@ -116,6 +131,10 @@ inline bool nears_bound(const SelfScratch& sc, const Eigen::Matrix3Xd& x, const 
 
 /// The stage's memory for a model with self-collision on and faces (else nullptr).
 std::shared_ptr<SelfScratch> make_self_scratch(const Model& model);
+
+/// Brings the candidate lists up to date at x (self_lists.cpp) and chooses the candidates a
+/// detection measures (`active`): those that may have come within `far`, all those of a moving pin.
+void find_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace& ws);
 
 /// Detects at the state's positions (self_detect.cpp): every free mass's bound, and the pairs
 /// that can reach their target before the next detection; h is the coming step.

@@ -1,0 +1,325 @@
+// The self-contact candidate lists (a Verlet list): every pair of elements within `far` and a
+// skin at the positions xl where they were found. A pair's gap changes by at most the largest
+// relative move of two of its masses since xl, so the lists hold while no two masses have moved
+// apart by more than the skin, or by more than their distance at xl allows when farther. The
+// check and the moves run over a tree of the masses at xl whose nodes bound their masses' moves.
+#include "parallel.hpp"
+#include "self_contact.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace clothsim::detail {
+
+namespace {
+
+using Box = std::array<double, 6>;  // lo, hi
+
+// The most two masses, one moved within box p and one within box q, have moved apart.
+double apart(const Box& p, const Box& q) {
+  double s = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = std::max(p[k + 3] - q[k], q[k + 3] - p[k]);
+    s += d * d;
+  }
+  return std::sqrt(s);
+}
+
+// The distance between two nodes' boxes at xl.
+double node_distance(const SelfBvh::Node& a, const SelfBvh::Node& b) {
+  double s = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = std::max({0.0, a.lo[k] - b.hi[k], b.lo[k] - a.hi[k]});
+    s += d * d;
+  }
+  return std::sqrt(s);
+}
+
+// Mass i's move since xl (as of the last bound_moves).
+auto move_of(const SelfScratch& sc, std::uint32_t i) { return sc.dl.col(i); }
+
+// Finds the pairs of one kind, a task of `tasks` at a time on the Workspace's threads; the
+// tasks' lists join in task order, so the result is the same for any thread count.
+template <class Each>
+void find_pairs(const std::vector<SelfBvh::NodePair>& tasks, std::size_t work, SelfScratch& sc, const Workspace& ws,
+                std::vector<SelfPair>& out, Each each) {
+  [[maybe_unused]] const int nt = team(ws, work);
+  sc.found.resize(std::max(sc.found.size(), tasks.size()));
+  const auto n = static_cast<std::int64_t>(tasks.size());
+#pragma omp parallel for schedule(dynamic) num_threads(nt) if (nt > 1)
+  for (std::int64_t i = 0; i < n; ++i) {
+    auto& found = sc.found[static_cast<std::size_t>(i)];
+    found.clear();
+    each(tasks[static_cast<std::size_t>(i)], found);
+  }
+  out.clear();
+  for (std::size_t i = 0; i < tasks.size(); ++i) out.insert(out.end(), sc.found[i].begin(), sc.found[i].end());
+}
+
+// A found pair: kept when nearer than r. Its target is found when it is first measured.
+void keep(const Eigen::Matrix3Xd& x, double r, std::array<std::uint32_t, 4> masses, bool vertex_triangle,
+          std::vector<SelfPair>& out) {
+  SelfPair p{{masses[0], masses[1], masses[2], masses[3]}, -1.0, 0.0, 0.0};
+  double coef[4];
+  p.built = pair_gap(x, p.mass, vertex_triangle, coef).norm();
+  if (p.built < r) out.push_back(p);
+}
+
+// The masses' clusters: the highest nodes of the masses' tree with at most kSelfCluster masses
+// under them (a subtree's masses are a range of the tree's order).
+void find_clusters(SelfScratch& sc) {
+  const SelfBvh& t = sc.mass_tree;
+  std::vector<std::array<std::uint32_t, 2>> range(t.nodes.size());  // [first, end) in t.order
+  for (std::size_t i = t.nodes.size(); i-- > 0;) {
+    const auto& nd = t.nodes[i];
+    range[i] = nd.count > 0 ? std::array{nd.first, nd.first + nd.count}
+                            : std::array{range[i + 1][0], range[nd.next][1]};
+  }
+  sc.cluster_node.clear();
+  sc.cluster_at.assign(t.nodes.size(), kNoCluster);
+  std::vector<std::uint32_t> stack{0};
+  while (!stack.empty()) {
+    const std::uint32_t i = stack.back();
+    stack.pop_back();
+    if (range[i][1] - range[i][0] <= kSelfCluster || t.nodes[i].count > 0) {
+      const auto c = static_cast<std::uint32_t>(sc.cluster_node.size());
+      for (std::uint32_t k = range[i][0]; k < range[i][1]; ++k) sc.cluster_of[sc.faced_masses[t.order[k]]] = c;
+      sc.cluster_at[i] = c;
+      sc.cluster_node.push_back(i);
+    } else {
+      stack.push_back(t.nodes[i].next), stack.push_back(i + 1);
+    }
+  }
+}
+
+// Each cluster's neighbours at xl: the clusters (itself among them) within far + skin and
+// their masses' longest edges, which hold every mass of a candidate with one of its own.
+void link_clusters(SelfScratch& sc) {
+  const SelfBvh& t = sc.mass_tree;
+  const double r = sc.far + sc.skin;
+  std::vector<std::array<std::uint32_t, 2>> links;
+  auto& stack = sc.node_pairs;
+  stack.assign(1, {0, 0});
+  while (!stack.empty()) {
+    const auto [a, b] = stack.back();
+    stack.pop_back();
+    const auto &na = t.nodes[a], &nb = t.nodes[b];
+    const std::uint32_t ca = sc.cluster_at[a], cb = sc.cluster_at[b];
+    if (a != b && node_distance(na, nb) > r + sc.node_reach[a] + sc.node_reach[b]) continue;
+    if (ca != kNoCluster && cb != kNoCluster) {
+      links.push_back({ca, cb});
+      if (a != b) links.push_back({cb, ca});
+    } else {
+      t.descend(t, {a, b}, ca != kNoCluster, cb != kNoCluster, stack);
+    }
+  }
+  std::sort(links.begin(), links.end());
+  sc.near_first.assign(sc.cluster_node.size() + 1, 0);
+  sc.near.resize(links.size());
+  for (std::size_t k = 0; k < links.size(); ++k) ++sc.near_first[links[k][0] + 1], sc.near[k] = links[k][1];
+  for (std::size_t c = 0; c + 1 < sc.near_first.size(); ++c) sc.near_first[c + 1] += sc.near_first[c];
+}
+
+// Each mass's longest edge at xl, and each node's of the masses' tree: no point of an element
+// is farther from one of its masses than that mass's longest edge.
+void measure_reach(SelfScratch& sc) {
+  std::fill(sc.reach.begin(), sc.reach.end(), 0.0);
+  for (std::size_t e = 0; e < sc.edges.size(); e += 2) {
+    const std::uint32_t a = sc.edges[e], b = sc.edges[e + 1];
+    const double len = (sc.xl.col(a) - sc.xl.col(b)).norm();
+    sc.reach[a] = std::max(sc.reach[a], len), sc.reach[b] = std::max(sc.reach[b], len);
+  }
+  const SelfBvh& t = sc.mass_tree;
+  sc.node_reach.resize(t.nodes.size());
+  for (std::size_t i = t.nodes.size(); i-- > 0;) {
+    const auto& nd = t.nodes[i];
+    double most = nd.count > 0 ? 0.0 : std::max(sc.node_reach[i + 1], sc.node_reach[nd.next]);
+    for (std::uint32_t j = nd.first; j < nd.first + nd.count; ++j) most = std::max(most, sc.reach[sc.faced_masses[t.order[j]]]);
+    sc.node_reach[i] = most;
+  }
+}
+
+// The candidate lists at positions x: every pair within `far` and the skin, from joins of the
+// masses' tree with the triangles' and of the edges' tree with itself.
+void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace& ws) {
+  const bool rebuild = sc.builds++ % 8 == 0;  // the trees follow the cloth's shape: rebuilt now and then
+  if (rebuild) {
+    sc.mass_tree.build(x.data(), sc.faced_masses, 1);
+    sc.triangle_tree.build(x.data(), sc.triangles, 3);
+    sc.edge_tree.build(x.data(), sc.edges, 2);
+  } else {
+    sc.mass_tree.refit(x.data());
+    sc.triangle_tree.refit(x.data());
+    sc.edge_tree.refit(x.data());
+  }
+  const double r = sc.far + sc.skin;
+  const std::size_t work = 4 * m.mass_count();
+  find_pairs(sc.mass_tree.join_tasks(sc.triangle_tree, r, kSelfJoinTasks), work, sc, ws, sc.cand_vt,
+             [&](SelfBvh::NodePair np, std::vector<SelfPair>& out) {
+               sc.mass_tree.join(sc.triangle_tree, np, r, [&](std::uint32_t i, std::uint32_t t) {
+                 const std::uint32_t v = sc.faced_masses[i], *c = &sc.triangles[3 * std::size_t{t}];
+                 if (c[0] != v && c[1] != v && c[2] != v) keep(x, r, {v, c[0], c[1], c[2]}, true, out);
+               });
+             });
+  find_pairs(sc.edge_tree.join_tasks(sc.edge_tree, r, kSelfJoinTasks), work, sc, ws, sc.cand_ee,
+             [&](SelfBvh::NodePair np, std::vector<SelfPair>& out) {
+               sc.edge_tree.join(sc.edge_tree, np, r, [&](std::uint32_t e, std::uint32_t f) {
+                 const std::uint32_t* ab = &sc.edges[2 * std::size_t{std::min(e, f)}];
+                 const std::uint32_t* cd = &sc.edges[2 * std::size_t{std::max(e, f)}];
+                 if (cd[0] != ab[0] && cd[0] != ab[1] && cd[1] != ab[0] && cd[1] != ab[1])
+                   keep(x, r, {ab[0], ab[1], cd[0], cd[1]}, false, out);
+               });
+             });
+  sc.xl = x;
+  measure_reach(sc);
+  if (rebuild) find_clusters(sc);
+  link_clusters(sc);
+}
+
+// Each node of a tree: the box of its primitives' masses' moves since xl.
+void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& moves) {
+  moves.resize(t.nodes.size());
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const auto k = static_cast<std::size_t>(t.k);
+  for (std::size_t i = t.nodes.size(); i-- > 0;) {
+    const auto& nd = t.nodes[i];
+    Box& b = moves[i];
+    if (nd.count == 0) {
+      const Box &l = moves[i + 1], &r = moves[nd.next];
+      for (int a = 0; a < 3; ++a) b[a] = std::min(l[a], r[a]), b[a + 3] = std::max(l[a + 3], r[a + 3]);
+      continue;
+    }
+    b = {inf, inf, inf, -inf, -inf, -inf};
+    for (std::uint32_t j = nd.first; j < nd.first + nd.count; ++j)
+      for (std::size_t c = 0; c < k; ++c) {
+        const Eigen::Vector3d d = move_of(sc, t.corners[t.order[j] * k + c]);
+        for (int a = 0; a < 3; ++a) b[a] = std::min(b[a], d[a]), b[a + 3] = std::max(b[a + 3], d[a]);
+      }
+  }
+}
+
+void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
+  sc.dl = x - sc.xl;
+  bound_moves(sc, sc.mass_tree, sc.node_moved);
+  bound_moves(sc, sc.triangle_tree, sc.triangle_moved);
+  bound_moves(sc, sc.edge_tree, sc.edge_moved);
+}
+
+// The distance of two primitives' boxes.
+double box_distance(const Box& p, const Box& q) {
+  double s = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = std::max({0.0, p[k] - q[k + 3], q[k] - p[k + 3]});
+    s += d * d;
+  }
+  return std::sqrt(s);
+}
+
+// Whether primitive pair (i of ta, j of tb, places in their trees' order) can be within `far` at x
+// though not listed: it shares no mass, was at least far + skin apart at xl, and its masses have
+// moved apart by more than that distance less `far`.
+bool pair_stale(const SelfScratch& sc, const SelfBvh& ta, std::uint32_t i, const SelfBvh& tb,
+                std::uint32_t j) {
+  const auto ka = static_cast<std::size_t>(ta.k), kb = static_cast<std::size_t>(tb.k);
+  const std::uint32_t *pa = &ta.corners[ta.order[i] * ka], *pb = &tb.corners[tb.order[j] * kb];
+  double most = 0.0;
+  for (std::size_t a = 0; a < ka; ++a)
+    for (std::size_t b = 0; b < kb; ++b) {
+      if (pa[a] == pb[b]) return false;
+      most = std::max(most, (move_of(sc, pa[a]) - move_of(sc, pb[b])).norm());
+    }
+  if (most <= std::max(sc.skin, box_distance(ta.box[i], tb.box[j]) - sc.far)) return false;
+  const std::uint32_t q[4] = {pa[0], ka > 1 ? pa[1] : pb[0], ka > 1 ? pb[0] : pb[1], pb[ka > 1 ? 1 : 2]};
+  double coef[4];
+  const double at_xl = pair_gap(sc.xl, q, ka == 1, coef).norm();
+  return at_xl >= sc.far + sc.skin && most > at_xl - sc.far;
+}
+
+// Whether the lists still hold every pair of primitives under trees ta and tb (one tree: each
+// pair once) that is within `far` at x: a pair's gap changes by at most the most two of its
+// masses, one of each element, have moved apart since xl.
+bool pairs_hold(SelfScratch& sc, const SelfBvh& ta, const std::vector<Box>& ma,
+                const SelfBvh& tb, const std::vector<Box>& mb) {
+  const bool self = &ta == &tb;
+  auto& stack = sc.node_pairs;
+  stack.assign(1, {0, 0});
+  while (!stack.empty()) {
+    const auto [a, b] = stack.back();
+    stack.pop_back();
+    const auto &na = ta.nodes[a], &nb = tb.nodes[b];
+    if (apart(ma[a], mb[b]) <= std::max(sc.skin, node_distance(na, nb) - sc.far)) continue;
+    if (na.count > 0 && nb.count > 0) {
+      for (std::uint32_t i = na.first; i < na.first + na.count; ++i)
+        for (std::uint32_t j = self && a == b ? i + 1 : nb.first; j < nb.first + nb.count; ++j)
+          if (pair_stale(sc, ta, i, tb, j)) return false;
+    } else {
+      ta.descend(tb, {a, b}, na.count > 0, nb.count > 0, stack);
+    }
+  }
+  return true;
+}
+
+// Whether the lists still hold every pair within `far` at x (the moves are bounded on the way).
+bool candidates_hold(const Eigen::Matrix3Xd& x, SelfScratch& sc) {
+  bound_moves(sc, x);
+  return pairs_hold(sc, sc.mass_tree, sc.node_moved, sc.triangle_tree, sc.triangle_moved) &&
+         pairs_hold(sc, sc.edge_tree, sc.edge_moved, sc.edge_tree, sc.edge_moved);
+}
+
+// Each mass's bound on how much the gaps of its candidates have changed since xl: the most
+// the masses of its cluster and of its cluster's neighbours have moved apart.
+void bound_gap_changes(SelfScratch& sc) {
+  sc.cluster_moved.resize(sc.cluster_node.size());
+  for (std::size_t c = 0; c < sc.cluster_node.size(); ++c) {
+    double most = 0.0;
+    for (std::uint32_t k = sc.near_first[c]; k < sc.near_first[c + 1]; ++k)
+      most = std::max(most, apart(sc.node_moved[sc.cluster_node[c]], sc.node_moved[sc.cluster_node[sc.near[k]]]));
+    sc.cluster_moved[c] = most;
+  }
+  for (std::uint32_t i : sc.faced_masses) sc.moved[i] = sc.cluster_moved[sc.cluster_of[i]];
+}
+
+// How much a candidate's gap can have changed since xl: the most two of its masses, one of
+// each element, have moved apart.
+double gap_change(const SelfScratch& sc, std::uint32_t j) {
+  const std::uint32_t* q = candidate(sc, j).mass;
+  const int split = j < sc.cand_vt.size() ? 1 : 2;
+  double most = 0.0;
+  for (int a = 0; a < split; ++a)
+    for (int b = split; b < 4; ++b) most = std::max(most, (move_of(sc, q[a]) - move_of(sc, q[b])).norm());
+  return most;
+}
+
+}  // namespace
+
+void find_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace& ws) {
+  if (sc.xl.cols() != x.cols() || !candidates_hold(x, sc)) {  // (the check bounds the moves)
+    build_candidates(m, x, sc, ws);
+    bound_moves(sc, x);
+  }
+  bound_gap_changes(sc);
+  // The candidates that may now be within `far`, all those of a pin that moves: a few runs of
+  // the lists, each on a thread; their parts join in order.
+  const auto pairs = static_cast<std::uint32_t>(sc.cand_vt.size() + sc.cand_ee.size());
+  const std::uint32_t part = pairs / kSelfJoinTasks + 1;
+  [[maybe_unused]] const int nt = team(ws, pairs);
+  sc.chosen.resize(kSelfJoinTasks);
+#pragma omp parallel for schedule(dynamic) num_threads(nt) if (nt > 1)
+  for (std::int64_t t = 0; t < std::int64_t{kSelfJoinTasks}; ++t) {
+    auto& out = sc.chosen[static_cast<std::size_t>(t)];
+    out.clear();
+    const auto begin = static_cast<std::uint32_t>(t) * part, end = std::min(pairs, begin + part);
+    for (std::uint32_t j = begin; j < end; ++j) {
+      const SelfPair& p = candidate(sc, j);
+      double pin = 0.0, most = 0.0;
+      for (std::uint32_t q : p.mass) pin = std::max(pin, sc.pin_move[q]), most = std::max(most, sc.moved[q]);
+      if (pin > 0.0 || (p.built - most < sc.far && p.built - gap_change(sc, j) < sc.far)) out.push_back(j);
+    }
+  }
+  sc.active.clear();
+  for (const auto& c : sc.chosen) sc.active.insert(sc.active.end(), c.begin(), c.end());
+}
+
+}  // namespace clothsim::detail

@@ -1,0 +1,136 @@
+// The self-contact candidate lists against brute force: after every update they hold each
+// pair of elements nearer than `far` (a vertex and a triangle it is not a corner of, two
+// edges without a common mass), and the detection measures each one that is; a cloth that
+// moves as one keeps its lists. White-box: the stage's private header.
+#include "self_contact.hpp"
+
+#include <clothsim/model_builder.hpp>
+#include <clothsim/step.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <set>
+#include <vector>
+
+namespace clothsim {
+namespace {
+
+using Key = std::array<std::uint32_t, 4>;
+
+constexpr int kSide = 13;
+
+// Sheets of kSide x kSide masses: sheet k's positions are place(u, v, k), u, v in [0, 1].
+template <class Place>
+Model sheets_model(int sheets, Place place) {
+  Options o;
+  ModelBuilder b(o, "sheets");
+  auto id = [](int i, int j) { return static_cast<std::uint32_t>(j * kSide + i); };
+  for (int k = 0; k < sheets; ++k) {
+    Eigen::Matrix3Xd x(3, kSide * kSide);
+    std::vector<std::uint32_t> tri;
+    std::vector<SpringSpec> springs;
+    for (int j = 0; j < kSide; ++j)
+      for (int i = 0; i < kSide; ++i) x.col(id(i, j)) = place(double(i) / (kSide - 1), double(j) / (kSide - 1), k);
+    for (int j = 0; j + 1 < kSide; ++j)
+      for (int i = 0; i + 1 < kSide; ++i) {
+        tri.insert(tri.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+        springs.push_back({id(i, j), id(i + 1, j), 0});
+        springs.push_back({id(i, j), id(i, j + 1), 0});
+      }
+    b.add_cloth(x, springs, {}, tri);
+  }
+  return b.build();
+}
+
+// Positions place(u, v, k) of every mass of sheets_model's sheets.
+template <class Place>
+void place_sheets(Eigen::Matrix3Xd& x, int sheets, Place place) {
+  for (int k = 0; k < sheets; ++k)
+    for (int j = 0; j < kSide; ++j)
+      for (int i = 0; i < kSide; ++i)
+        x.col((k * kSide + j) * kSide + i) = place(double(i) / (kSide - 1), double(j) / (kSide - 1), k);
+}
+
+// A pair's key: VT as (v, triangle's corners sorted); EE as the two edges sorted, each sorted.
+Key key(const std::uint32_t m[4], bool vt) {
+  Key k{m[0], m[1], m[2], m[3]};
+  if (vt) {
+    std::sort(k.begin() + 1, k.end());
+  } else {
+    std::sort(k.begin(), k.begin() + 2), std::sort(k.begin() + 2, k.end());
+    if (std::pair(k[2], k[3]) < std::pair(k[0], k[1])) std::swap(k[0], k[2]), std::swap(k[1], k[3]);
+  }
+  return k;
+}
+
+// Every pair nearer than `far` at x, by brute force, is a candidate and is measured.
+void expect_lists_hold(const Model& m, const Eigen::Matrix3Xd& x, const detail::SelfScratch& sc, int round) {
+  std::set<Key> listed, measured;
+  for (std::uint32_t j = 0; j < sc.cand_vt.size() + sc.cand_ee.size(); ++j)
+    listed.insert(key(detail::candidate(sc, j).mass, j < sc.cand_vt.size()));
+  for (std::uint32_t j : sc.active) measured.insert(key(detail::candidate(sc, j).mass, j < sc.cand_vt.size()));
+  double coef[4];
+  int missing = 0, unmeasured = 0;
+  auto check = [&](const std::uint32_t q[4], bool vt) {
+    if (detail::pair_gap(x, q, vt, coef).norm() >= sc.far) return;
+    missing += !listed.count(key(q, vt));
+    unmeasured += !measured.count(key(q, vt));
+  };
+  for (std::uint32_t v = 0; v < m.mass_count(); ++v)
+    for (std::size_t t = 0; t < m.triangles.size(); t += 3) {
+      const std::uint32_t q[4] = {v, m.triangles[t], m.triangles[t + 1], m.triangles[t + 2]};
+      if (q[1] != v && q[2] != v && q[3] != v) check(q, true);
+    }
+  for (std::size_t e = 0; e < sc.edges.size(); e += 2)
+    for (std::size_t f = e + 2; f < sc.edges.size(); f += 2) {
+      const std::uint32_t q[4] = {sc.edges[e], sc.edges[e + 1], sc.edges[f], sc.edges[f + 1]};
+      if (q[2] != q[0] && q[2] != q[1] && q[3] != q[0] && q[3] != q[1]) check(q, false);
+    }
+  EXPECT_EQ(missing, 0) << "pairs within far not listed, round " << round;
+  EXPECT_EQ(unmeasured, 0) << "pairs within far not measured, round " << round;
+}
+
+// A rippled sheet slides across another and settles onto it: pairs come near and go by.
+TEST(SelfLists, HoldEveryNearPairAsOneClothSlidesOverAnother) {
+  auto place = [](double a, double b, int k, double t) -> Eigen::Vector3d {
+    if (k == 0) return {a, 0.0, b};
+    const double ripple = 0.006 * std::sin(9.0 * a + 20.0 * t);
+    return {a + 0.4 * t, 0.05 * (1.0 - t) + 0.008 + ripple, b + 0.1 * t};
+  };
+  const Model m = sheets_model(2, [&](double a, double b, int k) { return place(a, b, k, 0.0); });
+  auto sc = detail::make_self_scratch(m);
+  ASSERT_TRUE(sc);
+  const Workspace ws = make_workspace(m);
+  constexpr int kRounds = 200;
+  Eigen::Matrix3Xd x = m.x0;
+  std::size_t most = 0;
+  for (int r = 0; r <= kRounds; ++r) {
+    place_sheets(x, 2, [&](double a, double b, int k) { return place(a, b, k, double(r) / kRounds); });
+    detail::find_candidates(m, x, *sc, ws);
+    expect_lists_hold(m, x, *sc, r);
+    most = std::max(most, sc->active.size());
+  }
+  EXPECT_GT(most, 1000u) << "many pairs come within far";
+  EXPECT_LT(sc->builds, kRounds / 4u) << "the lists hold over several rounds";
+  EXPECT_GT(sc->builds, 2u) << "the slide brings new pairs near";
+}
+
+// A cloth that moves as one, however far, keeps the lists it started with.
+TEST(SelfLists, ACommonMoveKeepsTheLists) {
+  const Model m = sheets_model(1, [](double a, double b, int) { return Eigen::Vector3d(a, 0.1 * std::sin(5.0 * a), b); });
+  auto sc = detail::make_self_scratch(m);
+  const Workspace ws = make_workspace(m);
+  Eigen::Matrix3Xd x = m.x0;
+  for (int r = 0; r < 50; ++r) {
+    x.colwise() += Eigen::Vector3d(0.03, -0.2, 0.01);
+    detail::find_candidates(m, x, *sc, ws);
+    expect_lists_hold(m, x, *sc, r);
+  }
+  EXPECT_EQ(sc->builds, 1u);
+}
+
+}  // namespace
+}  // namespace clothsim
