@@ -203,8 +203,6 @@ void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& move
 void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
   sc.dl = x - sc.xl;
   bound_moves(sc, sc.mass_tree, sc.node_moved);
-  bound_moves(sc, sc.triangle_tree, sc.triangle_moved);
-  bound_moves(sc, sc.edge_tree, sc.edge_moved);
 }
 
 // The distance of two primitives' boxes.
@@ -261,9 +259,12 @@ bool pairs_hold(SelfScratch& sc, const SelfBvh& ta, const std::vector<Box>& ma,
   return true;
 }
 
-// Whether the lists still hold every pair within `far` at x (the moves are bounded on the way).
+// Whether the lists still hold every pair within `far` at x (the masses' moves are bounded on the way).
 bool candidates_hold(const Eigen::Matrix3Xd& x, SelfScratch& sc) {
   bound_moves(sc, x);
+  if (apart(sc.node_moved[0], sc.node_moved[0]) <= sc.skin) return true;  // (no two masses moved apart by more)
+  bound_moves(sc, sc.triangle_tree, sc.triangle_moved);
+  bound_moves(sc, sc.edge_tree, sc.edge_moved);
   return pairs_hold(sc, sc.mass_tree, sc.node_moved, sc.triangle_tree, sc.triangle_moved) &&
          pairs_hold(sc, sc.edge_tree, sc.edge_moved, sc.edge_tree, sc.edge_moved);
 }
@@ -292,6 +293,17 @@ double gap_change(const SelfScratch& sc, std::uint32_t j) {
   return most;
 }
 
+// Whether candidate j may now be within `far` (its masses' bounds, then its own), or has a
+// pin that moves.
+bool may_be_near(const SelfScratch& sc, std::uint32_t j) {
+  const SelfPair& p = candidate(sc, j);
+  double pin = 0.0, most = 0.0;
+  for (std::uint32_t q : p.mass) most = std::max(most, sc.moved[q]);
+  if (sc.pins_move)
+    for (std::uint32_t q : p.mass) pin = std::max(pin, sc.pin_move[q]);
+  return pin > 0.0 || (p.built - most < sc.far && p.built - gap_change(sc, j) < sc.far);
+}
+
 }  // namespace
 
 void find_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace& ws) {
@@ -311,12 +323,8 @@ void find_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc,
     auto& out = sc.chosen[static_cast<std::size_t>(t)];
     out.clear();
     const auto begin = static_cast<std::uint32_t>(t) * part, end = std::min(pairs, begin + part);
-    for (std::uint32_t j = begin; j < end; ++j) {
-      const SelfPair& p = candidate(sc, j);
-      double pin = 0.0, most = 0.0;
-      for (std::uint32_t q : p.mass) pin = std::max(pin, sc.pin_move[q]), most = std::max(most, sc.moved[q]);
-      if (pin > 0.0 || (p.built - most < sc.far && p.built - gap_change(sc, j) < sc.far)) out.push_back(j);
-    }
+    for (std::uint32_t j = begin; j < end; ++j)
+      if (may_be_near(sc, j)) out.push_back(j);
   }
   sc.active.clear();
   for (const auto& c : sc.chosen) sc.active.insert(sc.active.end(), c.begin(), c.end());
