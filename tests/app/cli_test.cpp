@@ -674,10 +674,16 @@ TEST(Cli, SelfCollisionSwitchDecidesWhetherTheHeapPassesThroughItself) {
     ASSERT_EQ(r.code, 0) << r.output;
     const auto j = read_json(d / (std::string(state) + ".json"));
     EXPECT_EQ(j["options"]["self_collision"], state);
-    if (std::string(state) == "off")
+    if (std::string(state) == "off") {
       EXPECT_GT(j["max_self_crossings"].get<long>(), 0) << "the heap never folded through itself";
-    else
+      EXPECT_TRUE(j["self_detections"].is_null() && j["self_list_builds"].is_null()) << j.dump();
+    } else {
       EXPECT_EQ(j["max_self_crossings"].get<long>(), 0);
+      // the stage ran: detections, and at least one list build among them but fewer than detections
+      EXPECT_GT(j["self_detections"].get<long>(), 0);
+      EXPECT_GE(j["self_list_builds"].get<long>(), 1);
+      EXPECT_LT(j["self_list_builds"].get<long>(), j["self_detections"].get<long>());
+    }
   }
   const Result help = run_program(CLOTHSIM_HEAP_EXE, "--help");
   EXPECT_NE(help.output.find("--self-collision"), std::string::npos) << help.output;

@@ -118,6 +118,7 @@ int run_headless(const RunConfig& c, const b2o::Scene& scene, const Plan& p, Run
   const auto per_step = [&r](double ms) { return r.timed ? ms / static_cast<double>(r.timed) : 0.0; };
   r.ms_per_step = per_step(std::chrono::duration<double, std::milli>(step_time).count());
   r.cpu_ms_per_step = per_step(cpu_ms);  // includes --export-obj and --check-crossings
+  r.self_counts = self_contact_counts(ws);
   r.auto_threads = chooser.has_value();
   if (chooser) {
     r.cores = chooser->cores();

@@ -138,6 +138,9 @@ json report_json(const RunConfig& c, const Plan& p, const RunResult& r, const Ou
     j["max_self_crossings"] = r.max_self_crossings;
     j["max_self_crossings_t"] = r.max_self_crossings_t;
   }
+  // the self-contact stage's detections and candidate-list builds over the run (null: off)
+  j["self_detections"] = r.self_counts ? json(r.self_counts->detections) : json(nullptr);
+  j["self_list_builds"] = r.self_counts ? json(r.self_counts->list_builds) : json(nullptr);
   j["stable_dt_estimate"] = number(omega > 0 ? 2.0 / omega : std::numeric_limits<double>::infinity());
   j["options"] = options_json(c.options);
   j["threads"] = r.auto_threads ? json("auto") : json(r.threads);

@@ -7,6 +7,7 @@
 #include <clothsim/step.hpp>
 
 #include <csignal>
+#include <optional>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -49,6 +50,7 @@ struct RunResult {
   std::size_t max_self_crossings = 0;
   double max_self_crossings_t = 0.0;
   double ms_per_step = 0.0, cpu_ms_per_step = 0.0;  ///< per step of dt, its substeps included
+  std::optional<SelfContactCounts> self_counts;  ///< the self-contact stage's work (nullopt: off)
   // threads: auto (steps with one and with `cores` threads), or the fixed count
   bool auto_threads = false;
   int cores = 1, threads = 1;

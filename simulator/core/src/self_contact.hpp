@@ -64,7 +64,8 @@ struct SelfScratch {
   std::vector<std::uint32_t> triangles, edges;  ///< (3 t), (2 e) mass indices; edges once each
   std::vector<std::uint32_t> faced_masses;      ///< the masses in a face
   SelfBvh mass_tree, triangle_tree, edge_tree;
-  std::uint32_t builds = 0;       ///< candidate lists built (the trees are rebuilt every few)
+  std::uint64_t builds = 0;       ///< candidate lists built (the trees are rebuilt every few)
+  std::uint64_t detections = 0;   ///< detections run
   std::vector<SelfPair> cand_vt, cand_ee;  ///< every pair within far + skin at xl
   Eigen::Matrix3Xd xl;            ///< (3 x n) the positions the candidates were found at
   Eigen::Matrix3Xd dl;            ///< (3 x n) each mass's move since xl, at the last detection

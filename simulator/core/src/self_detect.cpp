@@ -131,6 +131,16 @@ void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, 
   keep_reachable(sc, x);
   sc.xd = x;
   sc.detect = false;
+  ++sc.detections;
 }
 
 }  // namespace clothsim::detail
+
+namespace clothsim {
+
+std::optional<SelfContactCounts> self_contact_counts(const Workspace& ws) {
+  if (!ws.self) return std::nullopt;
+  return SelfContactCounts{ws.self->detections, ws.self->builds};
+}
+
+}  // namespace clothsim

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace clothsim {
@@ -97,6 +98,13 @@ struct Workspace {
 };
 
 Workspace make_workspace(const Model& model);
+
+/// What the self-contact stage has done in a Workspace and its copies: its detections and the
+/// builds of its candidate lists (docs/collision.md, "Self-contact"); nullopt with it off.
+struct SelfContactCounts {
+  std::uint64_t detections = 0, list_builds = 0;
+};
+std::optional<SelfContactCounts> self_contact_counts(const Workspace& ws);
 
 /// Total force on every mass at positions x and velocities v (report eqs. 2-5 plus the
 /// damping term of eq. 6, so that a = f / m):
