@@ -79,6 +79,7 @@ struct SelfScratch {
   std::vector<double> moved;      ///< (n) m, how much the gap of any of the mass's candidates may have changed since xl
   std::vector<std::uint32_t> active; ///< the candidates this detection measures
   std::vector<std::vector<std::uint32_t>> chosen;  ///< per part of the lists, while choosing `active`
+  std::vector<std::uint64_t> order_keys;  ///< (active) lowest mass << 32 | candidate, while ordering `active`
   Eigen::Matrix3Xd xd;            ///< (3 x n) the positions at the last detection
   Eigen::Matrix3Xd xs, xpre, vpre;  ///< (3 x n) at the step's start; before the stage's moves
   Eigen::Matrix3Xd xlim;          ///< (3 x n) strain limiting's result, while it is reached

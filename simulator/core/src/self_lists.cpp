@@ -330,11 +330,13 @@ void find_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc,
   for (const auto& c : sc.chosen) sc.active.insert(sc.active.end(), c.begin(), c.end());
   // In the order of their lowest mass, the order the response pushes them in: pushed in the
   // trees' order, region by region, the twist scene's strain runs away after 4 s (measured).
-  const auto lowest = [&](std::uint32_t j) {
+  sc.order_keys.clear();
+  for (std::uint32_t j : sc.active) {
     const std::uint32_t* q = candidate(sc, j).mass;
-    return std::pair(std::min({q[0], q[1], q[2], q[3]}), j);
-  };
-  std::sort(sc.active.begin(), sc.active.end(), [&](std::uint32_t a, std::uint32_t b) { return lowest(a) < lowest(b); });
+    sc.order_keys.push_back(std::uint64_t{std::min({q[0], q[1], q[2], q[3]})} << 32 | j);
+  }
+  std::sort(sc.order_keys.begin(), sc.order_keys.end());
+  for (std::size_t i = 0; i < sc.active.size(); ++i) sc.active[i] = static_cast<std::uint32_t>(sc.order_keys[i]);
 }
 
 }  // namespace clothsim::detail
