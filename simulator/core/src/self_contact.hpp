@@ -24,10 +24,11 @@ inline constexpr double kSelfGamma = 0.42;
 inline constexpr double kSelfLeastGap = 0.02;
 /// The detection looks this many contact distances around each element.
 inline constexpr double kSelfRadius = 4.0;
-/// The candidate lists look farther by a skin (a Verlet list's): they hold until two masses
-/// have moved apart by it (self_lists.cpp). The lists then reach at most this
-/// part of the mesh's typical shortest edge (its triangles' median), so that they hold few
-/// pairs of neighbouring elements of one layer; the skin is within these contact distances.
+/// The candidate lists look farther by a skin (a Verlet list's): they hold until a pair they
+/// lack has two masses moved apart by more than the skin, or than its distance less `far`
+/// (self_lists.cpp). The lists reach at most this part of the mesh's typical shortest edge
+/// (its triangles' median), so that they hold few pairs of neighbouring elements of one
+/// layer; the skin is within these contact distances.
 inline constexpr double kSelfSkinReach = 0.75;
 inline constexpr double kSelfSkinLeast = 4.0, kSelfSkinMost = 8.0;
 /// The candidate lists' moves are bounded per cluster of at most this many masses.
