@@ -1,6 +1,6 @@
-// A bounding-volume hierarchy over the cloth's triangles or edges, for the self-contact
-// stage: built once from the rest shape, refitted to the current positions before each
-// detection (the topology never changes), rebuilt when the shape has changed much.
+// A bounding-volume hierarchy over the cloth's masses, triangles or edges, for the self-contact
+// stage's candidate lists: built where the lists are found, refitted there at the next builds
+// (the topology never changes), built again every few; and its dual-tree descents.
 #pragma once
 
 #include <algorithm>
@@ -85,32 +85,6 @@ struct SelfBvh {
            p[5] + r >= q[2];
   }
   static double extent(const Node& n) { return std::max({n.hi[0] - n.lo[0], n.hi[1] - n.lo[1], n.hi[2] - n.lo[2]}); }
-
-  /// Calls f(primitive) for every primitive whose box meets [lo, hi].
-  template <class F>
-  void query(const double lo[3], const double hi[3], F&& f) const {
-    if (nodes.empty()) return;
-    std::uint32_t stack[64];
-    int top = 0;
-    std::uint32_t n = 0;
-    for (;;) {
-      const Node& nd = nodes[n];
-      const bool meets = nd.lo[0] <= hi[0] && nd.hi[0] >= lo[0] && nd.lo[1] <= hi[1] && nd.hi[1] >= lo[1] &&
-                         nd.lo[2] <= hi[2] && nd.hi[2] >= lo[2];
-      if (meets && nd.count > 0) {
-        for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
-          const auto& b = box[i];
-          if (b[0] <= hi[0] && b[3] >= lo[0] && b[1] <= hi[1] && b[4] >= lo[1] && b[2] <= hi[2] && b[5] >= lo[2]) f(order[i]);
-        }
-      } else if (meets) {
-        stack[top++] = nd.next;
-        n = n + 1;
-        continue;
-      }
-      if (top == 0) return;
-      n = stack[--top];
-    }
-  }
 };
 
 }  // namespace clothsim::detail

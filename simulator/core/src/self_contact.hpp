@@ -91,7 +91,6 @@ struct SelfScratch {
   std::vector<double> pin_move;   ///< (n) m, how far a pinned mass moves in the next step (0: free)
   bool pins_move = false;         ///< some pin turns: detect before every step
   std::vector<std::uint8_t> in_face;  ///< (n) 1 if the mass is a corner of a face
-  std::size_t faced = 0;          ///< masses in a face (faced_masses.size())
   std::vector<SelfContact> vt, ee;  ///< the pairs of the last detection
   std::vector<std::vector<SelfPair>> found;  ///< per task, while building the candidate lists
   double distance = 0.0;          ///< m, the contact distance between layers

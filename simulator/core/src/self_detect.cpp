@@ -82,7 +82,6 @@ std::shared_ptr<SelfScratch> make_self_scratch(const Model& model) {
     }
   for (std::size_t i = 0; i < model.mass_count(); ++i)
     if (sc->in_face[i]) sc->faced_masses.push_back(static_cast<std::uint32_t>(i));
-  sc->faced = sc->faced_masses.size();
   for (const auto& [a, b] : edges) sc->edges.push_back(a), sc->edges.push_back(b);
   sc->distance = model.contact.distance;
   sc->radius = kSelfRadius * sc->distance;

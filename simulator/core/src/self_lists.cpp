@@ -27,14 +27,19 @@ double apart(const Box& p, const Box& q) {
   return std::sqrt(s);
 }
 
-// The distance between two nodes' boxes at xl.
-double node_distance(const SelfBvh::Node& a, const SelfBvh::Node& b) {
+// The distance between boxes [alo, ahi] and [blo, bhi].
+double box_distance(const double* alo, const double* ahi, const double* blo, const double* bhi) {
   double s = 0.0;
   for (int k = 0; k < 3; ++k) {
-    const double d = std::max({0.0, a.lo[k] - b.hi[k], b.lo[k] - a.hi[k]});
+    const double d = std::max({0.0, alo[k] - bhi[k], blo[k] - ahi[k]});
     s += d * d;
   }
   return std::sqrt(s);
+}
+
+// The distance between two nodes' boxes at xl.
+double node_distance(const SelfBvh::Node& a, const SelfBvh::Node& b) {
+  return box_distance(a.lo.data(), a.hi.data(), b.lo.data(), b.hi.data());
 }
 
 // Mass i's move since xl (as of the last bound_moves).
@@ -136,7 +141,8 @@ void measure_reach(SelfScratch& sc) {
   for (std::size_t i = t.nodes.size(); i-- > 0;) {
     const auto& nd = t.nodes[i];
     double most = nd.count > 0 ? 0.0 : std::max(sc.node_reach[i + 1], sc.node_reach[nd.next]);
-    for (std::uint32_t j = nd.first; j < nd.first + nd.count; ++j) most = std::max(most, sc.reach[sc.faced_masses[t.order[j]]]);
+    for (std::uint32_t j = nd.first; j < nd.first + nd.count; ++j)
+      most = std::max(most, sc.reach[sc.faced_masses[t.order[j]]]);
     sc.node_reach[i] = most;
   }
 }
@@ -205,16 +211,6 @@ void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
   bound_moves(sc, sc.mass_tree, sc.node_moved);
 }
 
-// The distance of two primitives' boxes.
-double box_distance(const Box& p, const Box& q) {
-  double s = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double d = std::max({0.0, p[k] - q[k + 3], q[k] - p[k + 3]});
-    s += d * d;
-  }
-  return std::sqrt(s);
-}
-
 // Whether primitive pair (i of ta, j of tb, places in their trees' order) can be within `far` at x
 // though not listed: it shares no mass, was at least far + skin apart at xl, and its masses have
 // moved apart by more than that distance less `far`.
@@ -228,7 +224,8 @@ bool pair_stale(const SelfScratch& sc, const SelfBvh& ta, std::uint32_t i, const
       if (pa[a] == pb[b]) return false;
       most = std::max(most, (move_of(sc, pa[a]) - move_of(sc, pb[b])).norm());
     }
-  if (most <= std::max(sc.skin, box_distance(ta.box[i], tb.box[j]) - sc.far)) return false;
+  const Box &ba = ta.box[i], &bb = tb.box[j];
+  if (most <= std::max(sc.skin, box_distance(ba.data(), ba.data() + 3, bb.data(), bb.data() + 3) - sc.far)) return false;
   const std::uint32_t q[4] = {pa[0], ka > 1 ? pa[1] : pb[0], ka > 1 ? pb[0] : pb[1], pb[ka > 1 ? 1 : 2]};
   double coef[4];
   const double at_xl = pair_gap(sc.xl, q, ka == 1, coef).norm();
