@@ -29,30 +29,26 @@ void air_drag(const Model& m, State& s, Workspace& ws, double h) {
   const std::uint32_t* t = m.triangles.data();
   // Each face's momentum change per unit of area, over 3: a third goes to each of its masses.
   const double share = m.options.density / 3.0, rate = h * m.air;
-  [[maybe_unused]] int nt = team(ws, m.triangles.size() / 3);
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-  for (std::int64_t f = 0; f < faces; ++f) {
+  parallel_for(team(ws, m.triangles.size() / 3), faces, [&](std::int64_t f) {
     const std::uint32_t a = t[3 * f], b = t[3 * f + 1], c = t[3 * f + 2];
     const Eigen::Vector3d n2 = (s.x.col(b) - s.x.col(a)).cross(s.x.col(c) - s.x.col(a));  // |n2| = 2 area
     const double len = n2.norm();
     if (!(len > 0.0)) {
       ws.face_dv.col(f).setZero();
-      continue;
+      return;
     }
     const Eigen::Vector3d normal = n2 / len;
     const double u = normal.dot(s.v.col(a) + s.v.col(b) + s.v.col(c)) / 3.0;
     const double du = -u * rate * std::abs(u) / (1.0 + rate * std::abs(u));
     ws.face_dv.col(f) = (share * 0.5 * len * du) * normal;  // momentum to each mass
-  }
+  });
   const auto n = static_cast<std::int64_t>(m.mass_count());
-  nt = team(ws, m.mass_count());
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-  for (std::int64_t i = 0; i < n; ++i) {
+  parallel_for(team(ws, m.mass_count()), n, [&](std::int64_t i) {
     Eigen::Vector3d p = Eigen::Vector3d::Zero();
     for (std::uint32_t k = ws.face_start[static_cast<std::size_t>(i)]; k < ws.face_start[static_cast<std::size_t>(i) + 1]; ++k)
       p += ws.face_dv.col(ws.face_list[k]);
     s.v.col(i) += m.inv_mass[i] * p;
-  }
+  });
 }
 
 }  // namespace clothsim::detail

@@ -53,9 +53,8 @@ PenaltyStats over_runs(std::size_t n, CollisionScratch& cs, int nt, Call call) {
     cs.seconds.assign(parts, 0.0);
   }
   bool timed = true;
-#pragma omp parallel num_threads(nt)
-  {
-    const std::size_t t = thread_num(), got = team_size();
+  parallel_region(nt, [&](int thread, int team_count) {
+    const auto t = static_cast<std::size_t>(thread), got = static_cast<std::size_t>(team_count);
     const double t0 = wtime();
     const std::size_t r0 = got == parts ? cs.bound[t] : count * t / got;
     const std::size_t r1 = got == parts ? cs.bound[t + 1] : count * (t + 1) / got;
@@ -66,7 +65,7 @@ PenaltyStats over_runs(std::size_t n, CollisionScratch& cs, int nt, Call call) {
     if (got == parts) cs.seconds[t] = wtime() - t0;
 #pragma omp single nowait
     if (got != parts) timed = false;
-  }
+  });
   for (std::size_t t = 1; timed && t < parts; ++t) {
     if (cs.seconds[t - 1] > 1.1 * cs.seconds[t] && cs.bound[t] > cs.bound[t - 1]) --cs.bound[t];
     else if (cs.seconds[t] > 1.1 * cs.seconds[t - 1] && cs.bound[t] < cs.bound[t + 1]) ++cs.bound[t];
@@ -145,12 +144,10 @@ void apply_friction(const Model& model, State& state, const Workspace& ws, doubl
   if (ws.contact_f.cols() != state.v.cols()) return;
   const double mu_s = model.contact.static_friction, mu_k = model.contact.friction;
   const auto n = static_cast<std::int64_t>(model.mass_count());
-  [[maybe_unused]] const int nt = detail::team(ws, model.mass_count());
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-  for (std::int64_t i = 0; i < n; ++i) {
+  detail::parallel_for(detail::team(ws, model.mass_count()), n, [&](std::int64_t i) {
     const Eigen::Vector3d cf = ws.contact_f.col(i);
     const double fn = cf.norm();
-    if (!(fn > 0.0) || model.pinned[static_cast<std::size_t>(i)]) continue;
+    if (!(fn > 0.0) || model.pinned[static_cast<std::size_t>(i)]) return;
     // the normal impulse of this step, as a velocity, and the tangential velocity it can stop
     const Eigen::Vector3d nrm = cf / fn;
     const double dvn = h * fn * model.inv_mass[i];
@@ -158,7 +155,7 @@ void apply_friction(const Model& model, State& state, const Workspace& ws, doubl
     const double st = vt.norm();
     if (st <= mu_s * dvn) state.v.col(i) -= vt;                  // static: it sticks
     else state.v.col(i) -= std::min(1.0, mu_k * dvn / st) * vt;  // kinetic: slowed by mu_k dvn
-  }
+  });
 }
 
 #else

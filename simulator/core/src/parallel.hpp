@@ -33,6 +33,50 @@ inline constexpr std::size_t kTeamWork = 4096;
 /// Threads for a loop of `work` items on a Workspace that steps on ws.threads threads.
 inline int team(const Workspace& ws, std::size_t work) { return work >= kTeamWork ? ws.threads : 1; }
 
+/// Runs body(i) for i in [0, n) on nt threads, a static share each; on one thread without an
+/// OpenMP region (entering one costs a system call, ~0.4 us, even on one thread).
+template <class Body>
+void parallel_for(int nt, std::int64_t n, Body&& body) {
+  if (nt <= 1) {
+    for (std::int64_t i = 0; i < n; ++i) body(i);
+    return;
+  }
+#pragma omp parallel for schedule(static) num_threads(nt)
+  for (std::int64_t i = 0; i < n; ++i) body(i);
+}
+
+/// parallel_for with the items handed out as threads get free (items of uneven work).
+template <class Body>
+void parallel_for_dynamic(int nt, std::int64_t n, Body&& body) {
+  if (nt <= 1) {
+    for (std::int64_t i = 0; i < n; ++i) body(i);
+    return;
+  }
+#pragma omp parallel for schedule(dynamic) num_threads(nt)
+  for (std::int64_t i = 0; i < n; ++i) body(i);
+}
+
+/// parallel_for of a body that answers: whether any answer was true (every body runs).
+template <class Body>
+bool parallel_any(int nt, std::int64_t n, Body&& body) {
+  bool any = false;
+  if (nt <= 1) {
+    for (std::int64_t i = 0; i < n; ++i) any = body(i) || any;
+    return any;
+  }
+#pragma omp parallel for schedule(static) num_threads(nt) reduction(|| : any)
+  for (std::int64_t i = 0; i < n; ++i) any = body(i) || any;
+  return any;
+}
+
+/// Runs body(t, parts) on each of nt threads; on one thread, body(0, 1) without a region.
+template <class Body>
+void parallel_region(int nt, Body&& body) {
+  if (nt <= 1) return body(0, 1);
+#pragma omp parallel num_threads(nt)
+  body(static_cast<int>(thread_num()), static_cast<int>(team_size()));
+}
+
 /// The collision loop's work for team(): a query costs ~10 spring terms, so half a mass's.
 inline std::size_t collision_work(std::size_t masses, std::size_t objects) { return masses * objects / 2; }
 

@@ -23,22 +23,23 @@ void measure_away(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
 // Pushes one pair apart to its target, with friction on the relative tangential move since xs.
 // A pair whose gap at the detection less its masses' moves since is at least its target is
 // left alone without measuring it. A pair that has passed to the other side of where it was
-// at the detection is pushed back to that side: the bounds put it back there anyway.
-void separate(const Model& m, SelfScratch& sc, const SelfContact& contact, bool vertex_triangle, Eigen::Matrix3Xd& x) {
+// at the detection is pushed back to that side: the bounds put it back there anyway. Whether
+// it was pushed.
+bool separate(const Model& m, SelfScratch& sc, const SelfContact& contact, bool vertex_triangle, Eigen::Matrix3Xd& x) {
   const SelfPair& p = contact.pair;
   const std::uint32_t* q = p.mass;
   const double closed = vertex_triangle ? sc.away[q[0]] + std::max({sc.away[q[1]], sc.away[q[2]], sc.away[q[3]]})
                                         : std::max(sc.away[q[0]], sc.away[q[1]]) + std::max(sc.away[q[2]], sc.away[q[3]]);
-  if (p.gap - closed >= p.target) return;
+  if (p.gap - closed >= p.target) return false;
   double c[4];
   const Eigen::Vector3d g = pair_gap(x, p.mass, vertex_triangle, c);
   const double along = g.dot(contact.side);
   const bool crossed = along <= 0.0 && contact.side.squaredNorm() > 0.0;
   const double gap = crossed ? along : g.norm();
-  if (!(gap < p.target) || (gap == 0.0 && !crossed)) return;  // (no gap and no side: no direction)
+  if (!(gap < p.target) || (gap == 0.0 && !crossed)) return false;  // (no gap and no side: no direction)
   double wsum = 0.0, w[4];
   for (int k = 0; k < 4; ++k) w[k] = m.inv_mass[p.mass[k]], wsum += c[k] * c[k] * w[k];
-  if (wsum == 0.0) return;
+  if (wsum == 0.0) return false;
   const Eigen::Vector3d n = crossed ? contact.side : Eigen::Vector3d(g / gap);
   const double depth = p.target - gap;
   Eigen::Vector3d move = Eigen::Vector3d::Zero();  // the relative move over the step
@@ -51,6 +52,7 @@ void separate(const Model& m, SelfScratch& sc, const SelfContact& contact, bool 
     x.col(q[k]) += (c[k] * w[k] / wsum) * dg;
     sc.away[q[k]] = (x.col(q[k]) - sc.xd.col(q[k])).norm();
   }
+  return true;
 }
 
 }  // namespace
@@ -67,28 +69,26 @@ namespace {
 // locked (weight 0) for the springs' pass that follows. Whether any was.
 bool hold(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, const Workspace& ws) {
   const auto n = static_cast<std::int64_t>(model.mass_count());
-  [[maybe_unused]] const int nt = team(ws, model.mass_count());
-  bool held = false;
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1) reduction(|| : held)
-  for (std::int64_t i = 0; i < n; ++i) {
+  return parallel_any(team(ws, model.mass_count()), n, [&](std::int64_t i) {
     const double b = sc.bound[static_cast<std::size_t>(i)];
     const Eigen::Vector3d d = x.col(i) - sc.xd.col(i);
     const double len = d.norm();
-    if (len > b && model.inv_mass[i] != 0.0) {
-      x.col(i) = sc.xd.col(i) + (b / len) * d;
-      sc.weight[static_cast<std::size_t>(i)] = 0.0;
-      sc.held[static_cast<std::size_t>(i)] = 1;
-      held = true;
-    }
-  }
-  return held;
+    if (!(len > b && model.inv_mass[i] != 0.0)) return false;
+    x.col(i) = sc.xd.col(i) + (b / len) * d;
+    sc.weight[static_cast<std::size_t>(i)] = 0.0;
+    sc.held[static_cast<std::size_t>(i)] = 1;
+    return true;
+  });
 }
 
-// Every close pair pushed apart once, in order.
-void push_pairs(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x) {
+// Every close pair pushed apart once, in order. Whether any was.
+bool push_pairs(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x) {
+  if (sc.vt.empty() && sc.ee.empty()) return false;
   measure_away(sc, x);
-  for (const SelfContact& p : sc.vt) separate(model, sc, p, true, x);
-  for (const SelfContact& p : sc.ee) separate(model, sc, p, false, x);
+  bool pushed = false;
+  for (const SelfContact& p : sc.vt) pushed = separate(model, sc, p, true, x) || pushed;
+  for (const SelfContact& p : sc.ee) pushed = separate(model, sc, p, false, x) || pushed;
+  return pushed;
 }
 
 }  // namespace
@@ -115,25 +115,25 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
   // Pushes and bounds in turn: a push the bounds cut short gets another try within them. With
   // XPBD the springs then take their length again with the held masses locked, so that a held
   // mass does not leave its neighbours pulling at it (which would feed the springs energy).
+  // A pass that neither pushes nor holds leaves nothing for the next.
   const bool springs = model.options.integrator == Integrator::XPBD;
   for (int pass = 0; pass < kSelfPasses; ++pass) {
-    push_pairs(model, sc, state.x);
+    const bool pushed = push_pairs(model, sc, state.x);
     std::copy(model.inv_mass.data(), model.inv_mass.data() + model.inv_mass.size(), sc.weight.begin());
-    if (hold(model, sc, state.x, ws) && springs) {
+    const bool held = hold(model, sc, state.x, ws);
+    if (held && springs) {
       relax_structural(model, state.x, sc.weight.data(), ws, h);
       hold(model, sc, state.x, ws);
     }
+    if (!pushed && !held) break;
   }
   // The velocities take the pushes; a mass held at its bound keeps its velocity but the part
   // that leaves the bound (an inelastic stop: holding never adds energy). Detect again when a
   // mass may reach its bound in the next step.
-  bool near_bound = false;
   const auto n = static_cast<std::int64_t>(model.mass_count());
-  [[maybe_unused]] const int nt = team(ws, model.mass_count());
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1) reduction(|| : near_bound)
-  for (std::int64_t i = 0; i < n; ++i) {
+  const bool near_bound = parallel_any(team(ws, model.mass_count()), n, [&](std::int64_t i) {
     const double b = sc.bound[static_cast<std::size_t>(i)];
-    if (std::isinf(b)) continue;
+    if (std::isinf(b)) return false;
     const Eigen::Vector3d out = state.x.col(i) - sc.xd.col(i);
     if (sc.held[static_cast<std::size_t>(i)] && out.norm() > 0.0) {
       const Eigen::Vector3d u = out.normalized();
@@ -141,8 +141,8 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
     } else {
       state.v.col(i) += (state.x.col(i) - sc.xpre.col(i)) / h;
     }
-    near_bound = near_bound || nears_bound(sc, state.x, state.v, i, h);
-  }
+    return nears_bound(sc, state.x, state.v, i, h);
+  });
   sc.detect = near_bound || sc.pins_move;
 }
 

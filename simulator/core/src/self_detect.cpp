@@ -38,16 +38,14 @@ void keep_reachable(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
 // at rest when that is less.
 void measure(const Model& m, SelfScratch& sc, const Eigen::Matrix3Xd& x, const Workspace& ws) {
   const auto n = static_cast<std::int64_t>(sc.active.size());
-  [[maybe_unused]] const int nt = team(ws, sc.active.size());
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-  for (std::int64_t i = 0; i < n; ++i) {
+  parallel_for(team(ws, sc.active.size()), n, [&](std::int64_t i) {
     double coef[4];
     const std::uint32_t j = sc.active[static_cast<std::size_t>(i)];
     SelfPair& p = candidate(sc, j);
     const bool vertex_triangle = j < sc.cand_vt.size();
     p.gap = pair_gap(x, p.mass, vertex_triangle, coef).norm();
     if (p.target < 0.0) p.target = std::min(sc.distance, pair_gap(m.x0, p.mass, vertex_triangle, coef).norm());
-  }
+  });
 }
 
 // The median over the triangles of each one's shortest edge, in the rest shape.

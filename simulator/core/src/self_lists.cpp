@@ -50,15 +50,12 @@ auto move_of(const SelfScratch& sc, std::uint32_t i) { return sc.dl.col(i); }
 template <class Each>
 void find_pairs(const std::vector<SelfBvh::NodePair>& tasks, std::size_t work, SelfScratch& sc, const Workspace& ws,
                 std::vector<SelfPair>& out, Each each) {
-  [[maybe_unused]] const int nt = team(ws, work);
   sc.found.resize(std::max(sc.found.size(), tasks.size()));
-  const auto n = static_cast<std::int64_t>(tasks.size());
-#pragma omp parallel for schedule(dynamic) num_threads(nt) if (nt > 1)
-  for (std::int64_t i = 0; i < n; ++i) {
+  parallel_for_dynamic(team(ws, work), static_cast<std::int64_t>(tasks.size()), [&](std::int64_t i) {
     auto& found = sc.found[static_cast<std::size_t>(i)];
     found.clear();
     each(tasks[static_cast<std::size_t>(i)], found);
-  }
+  });
   out.clear();
   for (std::size_t i = 0; i < tasks.size(); ++i) out.insert(out.end(), sc.found[i].begin(), sc.found[i].end());
 }
@@ -313,16 +310,14 @@ void find_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc,
   // the lists, each on a thread; their parts join in order.
   const auto pairs = static_cast<std::uint32_t>(sc.cand_vt.size() + sc.cand_ee.size());
   const std::uint32_t part = pairs / kSelfJoinTasks + 1;
-  [[maybe_unused]] const int nt = team(ws, pairs);
   sc.chosen.resize(kSelfJoinTasks);
-#pragma omp parallel for schedule(dynamic) num_threads(nt) if (nt > 1)
-  for (std::int64_t t = 0; t < std::int64_t{kSelfJoinTasks}; ++t) {
+  parallel_for_dynamic(team(ws, pairs), std::int64_t{kSelfJoinTasks}, [&](std::int64_t t) {
     auto& out = sc.chosen[static_cast<std::size_t>(t)];
     out.clear();
     const auto begin = static_cast<std::uint32_t>(t) * part, end = std::min(pairs, begin + part);
     for (std::uint32_t j = begin; j < end; ++j)
       if (may_be_near(sc, j)) out.push_back(j);
-  }
+  });
   sc.active.clear();
   for (const auto& c : sc.chosen) sc.active.insert(sc.active.end(), c.begin(), c.end());
   // In the order of their lowest mass, the order the response pushes them in: pushed in the

@@ -121,7 +121,7 @@ void gathered_springs(const Model& model, const Eigen::Matrix3Xd& x, const doubl
   double* pf = f.data();
   const auto n = static_cast<std::int64_t>(model.mass_count());
   const auto sc = static_cast<std::int64_t>(model.spring_count());
-  [[maybe_unused]] const int nt = team(ws, model.mass_count());
+  const int nt = team(ws, model.mass_count());
 #ifdef CLOTHSIM_AVX2
   const bool avx2 = use_avx2() && 3 * model.mass_count() < 0x80000000u;
 #endif
@@ -166,13 +166,7 @@ void gathered_springs(const Model& model, const Eigen::Matrix3Xd& x, const doubl
     return std::pair<std::size_t, std::size_t>(static_cast<std::size_t>(std::min(count, t * per)),
                                                static_cast<std::size_t>(t + 1 == parts ? count : std::min(count, (t + 1) * per)));
   };
-#pragma omp parallel num_threads(nt) if (nt > 1)
-  {
-    int t = 0, parts = 1;
-#ifdef _OPENMP
-    t = omp_get_thread_num();
-    parts = omp_get_num_threads();
-#endif
+  parallel_region(nt, [&](int t, int parts) {
     if (split && parts == split->threads) {
       // Block by block as on one thread (SpringSplit): the springs other threads need first,
       // then, chunk by chunk, the chunk's other springs and its masses. (All springs, then all
@@ -192,7 +186,7 @@ void gathered_springs(const Model& model, const Eigen::Matrix3Xd& x, const doubl
       const auto [i0, i1] = chunk(n, t, parts);
       gather(i0, i1);
     }
-  }
+  });
 }
 
 }  // namespace

@@ -56,9 +56,7 @@ void attach(const Model& m, State& s, const Workspace& ws, double cap) {
   constexpr std::size_t K = Model::kAttachments;
   if (m.attach_pin.size() != K * m.mass_count()) return;
   const auto n = static_cast<std::int64_t>(m.mass_count());
-  [[maybe_unused]] const int nt = team(ws, m.mass_count());
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-  for (std::int64_t i = 0; i < n; ++i)
+  parallel_for(team(ws, m.mass_count()), n, [&](std::int64_t i) {
     for (std::size_t a = 0; a < K; ++a) {
       const std::uint32_t pin = m.attach_pin[static_cast<std::size_t>(i) * K + a];
       if (pin == Model::kNoPin) break;
@@ -69,25 +67,24 @@ void attach(const Model& m, State& s, const Workspace& ws, double cap) {
       const double away = s.v.col(i).dot(d);  // (the pin does not move)
       if (away > 0.0) s.v.col(i) -= (away / (len * len)) * d;
     }
+  });
 }
 
 // A mass farther from its held anchor than cap times their path is put back on that sphere,
 // and (with v) stops moving away from the anchor. The anchors do not move: any order.
 void held_reach(const Model& m, Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* v, const Workspace& ws, double cap) {
   const auto n = static_cast<std::int64_t>(ws.anchor.size());
-  [[maybe_unused]] const int nt = team(ws, m.mass_count());
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-  for (std::int64_t i = 0; i < n; ++i) {
+  parallel_for(team(ws, m.mass_count()), n, [&](std::int64_t i) {
     const std::uint32_t a = ws.anchor[static_cast<std::size_t>(i)];
-    if (a == kNoAnchor || a == static_cast<std::uint32_t>(i) || m.inv_mass[i] == 0.0) continue;
+    if (a == kNoAnchor || a == static_cast<std::uint32_t>(i) || m.inv_mass[i] == 0.0) return;
     const Eigen::Vector3d d = x.col(i) - x.col(a);
     const double len = d.norm(), limit = cap * ws.reach[static_cast<std::size_t>(i)];
-    if (!(len > limit)) continue;
+    if (!(len > limit)) return;
     x.col(i) += d * (limit / len - 1.0);
-    if (!v) continue;
+    if (!v) return;
     const double away = (v->col(i) - v->col(a)).dot(d);
     if (away > 0.0) v->col(i) -= (away / (len * len)) * d;
-  }
+  });
 }
 
 // The attachments to the held masses: every mass's nearest held mass along the structural

@@ -17,7 +17,7 @@ void symplectic_euler(const Model& model, State& state, Workspace& ws, double h,
   double* pv = state.v.data();
   const double* pf = ws.f.data();
   const double* im = model.inv_mass.data();
-  [[maybe_unused]] const int nt = team(ws, static_cast<std::size_t>(n));
+  const int nt = team(ws, static_cast<std::size_t>(n));
 #ifdef CLOTHSIM_AVX2
   if (use_avx2()) {
     // In AVX2, each thread its share of masses (a multiple of 4; the same bits on any count),
@@ -26,7 +26,7 @@ void symplectic_euler(const Model& model, State& state, Workspace& ws, double h,
     const auto nm = static_cast<std::size_t>(n);
     const auto share = [nm](std::size_t t, std::size_t parts) { return std::min(nm, (nm * t / parts + 3) / 4 * 4); };
     bool x_ok = true, v_ok = true;
-    if (nt <= 1) {  // (a parallel region of one thread still costs ~0.2 us)
+    if (nt <= 1) {  // (no region on one thread: parallel_for)
       x_ok = drift_avx2(px, pv, pinned, h, nm);
     } else {
 #pragma omp parallel num_threads(nt) reduction(&& : x_ok)
@@ -51,13 +51,12 @@ void symplectic_euler(const Model& model, State& state, Workspace& ws, double h,
     return;
   }
 #endif
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-  for (std::int64_t e = 0; e < 3 * n; ++e) px[e] += h * pv[e];  // eq. 1
+  parallel_for(nt, 3 * n, [&](std::int64_t e) { px[e] += h * pv[e]; });  // eq. 1
   compute_forces(model, state.x, state.v, ws.f, ws);            // eqs. 2-5 at x(t+h)
   // eqs. 6-7 (damping is in f): v += h (f / m), as h * (f * (1/m))
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-  for (std::int64_t i = 0; i < n; ++i)
+  parallel_for(nt, n, [&](std::int64_t i) {
     for (std::int64_t r = 0; r < 3; ++r) pv[3 * i + r] += h * (pf[3 * i + r] * im[i]);
+  });
 }
 
 }  // namespace clothsim::detail

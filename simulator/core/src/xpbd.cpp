@@ -26,9 +26,8 @@ void by_colour(const Colouring& c, const Workspace& ws, One one) {
   for (std::size_t k = 0; k < colours; ++k) {
     const auto begin = static_cast<std::int64_t>(c.start[k]), end = static_cast<std::int64_t>(c.start[k + 1]);
     const bool serial = k + 1 == colours;  // (the last colour may share masses)
-    [[maybe_unused]] const int nt = serial ? 1 : team(ws, static_cast<std::size_t>(end - begin));
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-    for (std::int64_t j = begin; j < end; ++j) one(c.links[static_cast<std::size_t>(j)]);
+    const int nt = serial ? 1 : team(ws, static_cast<std::size_t>(end - begin));
+    parallel_for(nt, end - begin, [&](std::int64_t j) { one(c.links[static_cast<std::size_t>(begin + j)]); });
   }
 }
 
@@ -74,14 +73,12 @@ void predict(const Model& m, State& s, IntegratorScratch& sc, const Workspace& w
   pull(m, s, ws, h);
   const bool contact = m.colliders != nullptr;
   const auto n = static_cast<std::int64_t>(m.mass_count());
-  [[maybe_unused]] const int nt = team(ws, m.mass_count());
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-  for (std::int64_t i = 0; i < n; ++i) {
+  parallel_for(team(ws, m.mass_count()), n, [&](std::int64_t i) {
     if (w[i] != 0.0) s.v.col(i) = (s.v.col(i) + h * m.gravity) / (1.0 + h * m.damping_of(static_cast<std::size_t>(i)) * w[i]);
     sc.xs.col(i) = s.x.col(i);
     s.x.col(i) += h * s.v.col(i);
     if (contact) sc.f2.col(i).setZero();
-  }
+  });
 }
 
 // The colliders' pushes, with Coulomb friction on the step's tangential move (it is undone
@@ -92,9 +89,7 @@ void push_out(const Model& m, State& s, IntegratorScratch& sc, Workspace& ws, do
   if (contact) add_contact_push(m, s.x, sc.f2, ws);
   const double mu_s = m.contact.static_friction, mu_k = m.contact.friction;
   const auto n = static_cast<std::int64_t>(m.mass_count());
-  [[maybe_unused]] const int nt = team(ws, m.mass_count());
-#pragma omp parallel for schedule(static) num_threads(nt) if (nt > 1)
-  for (std::int64_t i = 0; i < n; ++i) {
+  parallel_for(team(ws, m.mass_count()), n, [&](std::int64_t i) {
     const double depth = contact ? sc.f2.col(i).norm() : 0.0;
     if (!ws.held.empty()) ws.held[static_cast<std::size_t>(i)] = depth > 0.0;
     if (depth > 0.0 && m.inv_mass[i] != 0.0) {
@@ -106,7 +101,7 @@ void push_out(const Model& m, State& s, IntegratorScratch& sc, Workspace& ws, do
       s.x.col(i) -= slide <= mu_s * depth ? 1.0 * tangent : std::min(1.0, mu_k * depth / slide) * tangent;
     }
     s.v.col(i) = (s.x.col(i) - sc.xs.col(i)) / h;
-  }
+  });
 }
 
 }  // namespace
