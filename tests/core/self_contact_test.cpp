@@ -145,6 +145,29 @@ TEST(SelfContact, TwoLayersPressedOntoAFloorStaySeparate) {
   EXPECT_GT(nearest(s.x, 0, half, half, 2 * half), 0.1 * m.contact.distance);
 }
 
+// Two upright layers 1 cm apart falling edge first (no drag) as one at 10 m/s and more: their
+// gaps do not change, so the bounds follow their common move and one detection does for the fall.
+TEST(SelfContact, LayersFallingAsOneNeedOneDetection) {
+  Options o;
+  const Sheet lo = sheet(17, [](double a, double b) { return Eigen::Vector3d(a, b, 0.0); });
+  const Sheet hi = sheet(17, [](double a, double b) { return Eigen::Vector3d(a, b, 0.01); });
+  ModelBuilder b(o, "falling");
+  b.add_cloth(lo.x, lo.springs, {}, lo.triangles);
+  b.add_cloth(hi.x, hi.springs, {}, hi.triangles);
+  const Model m = b.build();
+  State s = make_state(m);
+  s.v.row(1).setConstant(-10.0);
+  Workspace ws = make_workspace(m);
+  ws.substeps = 20;
+  const long steps = std::lround(0.2 / m.options.dt) * ws.substeps;
+  for (long k = 0; k < steps; ++k) ASSERT_TRUE(step(m, s, ws).finite);
+  EXPECT_LT(s.v.row(1).maxCoeff(), -10.5);  // (it fell 0.2 s, faster and faster)
+  EXPECT_EQ(count_self_crossings(m, s.x).crossings, 0u);
+  const auto counts = self_contact_counts(ws);
+  ASSERT_TRUE(counts.has_value());
+  EXPECT_EQ(counts->detections, 1u);
+}
+
 // The least distance from a free mass to a triangle of free masses it is not a corner of,
 // over its distance at rest where that is less than the contact distance (the pair's target).
 double least_gap_part(const Model& m, const Eigen::Matrix3Xd& x) {

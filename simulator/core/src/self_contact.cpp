@@ -17,7 +17,7 @@ namespace {
 
 // How far each mass is from where it was at the detection.
 void measure_away(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
-  for (Eigen::Index i = 0; i < x.cols(); ++i) sc.away[static_cast<std::size_t>(i)] = (x.col(i) - sc.xd.col(i)).norm();
+  for (Eigen::Index i = 0; i < x.cols(); ++i) sc.away[static_cast<std::size_t>(i)] = away_from(sc, x, i);
 }
 
 // Pushes one pair apart to its target, with friction on the relative tangential move since xs.
@@ -50,12 +50,20 @@ bool separate(const Model& m, SelfScratch& sc, const SelfContact& contact, bool 
   const Eigen::Vector3d dg = depth * n - keep * tangent;  // the change of the gap vector
   for (int k = 0; k < 4; ++k) {
     x.col(q[k]) += (c[k] * w[k] / wsum) * dg;
-    sc.away[q[k]] = (x.col(q[k]) - sc.xd.col(q[k])).norm();
+    sc.away[q[k]] = away_from(sc, x, q[k]);
   }
   return true;
 }
 
 }  // namespace
+
+void find_common_move(const State& state, SelfScratch& sc) {
+  if (!sc.follow) return;
+  Eigen::Vector3d move = Eigen::Vector3d::Zero(), velocity = Eigen::Vector3d::Zero();
+  for (std::uint32_t i : sc.faced_masses) move += state.x.col(i) - sc.xd.col(i), velocity += state.v.col(i);
+  const auto count = static_cast<double>(sc.faced_masses.size());
+  sc.shift = move / count, sc.drift = velocity / count;
+}
 
 void self_contact_begin(const Model& model, const State& state, Workspace& ws, double h) {
   SelfScratch& sc = *ws.self;
@@ -71,10 +79,10 @@ bool hold(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, const Worksp
   const auto n = static_cast<std::int64_t>(model.mass_count());
   return parallel_any(team(ws, model.mass_count()), n, [&](std::int64_t i) {
     const double b = sc.bound[static_cast<std::size_t>(i)];
-    const Eigen::Vector3d d = x.col(i) - sc.xd.col(i);
+    const Eigen::Vector3d d = x.col(i) - sc.xd.col(i) - sc.shift;
     const double len = d.norm();
     if (!(len > b && model.inv_mass[i] != 0.0)) return false;
-    x.col(i) = sc.xd.col(i) + (b / len) * d;
+    x.col(i) = sc.xd.col(i) + sc.shift + (b / len) * d;
     sc.weight[static_cast<std::size_t>(i)] = 0.0;
     sc.held[static_cast<std::size_t>(i)] = 1;
     return true;
@@ -97,6 +105,7 @@ void limit_strain_within_bounds(const Model& model, State& state, Workspace& ws,
   SelfScratch& sc = *ws.self;
   limit_strain(model, state, ws);
   sc.xlim = state.x;
+  find_common_move(state, sc);
   // The first move within the step's bounds; each next one within bounds found where the
   // last left the masses.
   for (int move = 0; hold(model, sc, state.x, ws) && move < kSelfLimiterMoves; ++move) {
@@ -111,6 +120,7 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
   SelfScratch& sc = *ws.self;
   sc.xpre = state.x;
   sc.vpre = state.v;
+  find_common_move(state, sc);
   std::fill(sc.held.begin(), sc.held.end(), std::uint8_t{0});
   // Pushes and bounds in turn: a push the bounds cut short gets another try within them. With
   // XPBD the springs then take their length again with the held masses locked, so that a held
@@ -134,7 +144,7 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
   const bool near_bound = parallel_any(team(ws, model.mass_count()), n, [&](std::int64_t i) {
     const double b = sc.bound[static_cast<std::size_t>(i)];
     if (std::isinf(b)) return false;
-    const Eigen::Vector3d out = state.x.col(i) - sc.xd.col(i);
+    const Eigen::Vector3d out = state.x.col(i) - sc.xd.col(i) - sc.shift;
     if (sc.held[static_cast<std::size_t>(i)] && out.norm() > 0.0) {
       const Eigen::Vector3d u = out.normalized();
       state.v.col(i) = sc.vpre.col(i) - std::max(0.0, sc.vpre.col(i).dot(u)) * u;
@@ -143,7 +153,8 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
     }
     return nears_bound(sc, state.x, state.v, i, h);
   });
-  sc.detect = near_bound || sc.pins_move;
+  // A collider that stops part of a cloth ends its common move: detect, and hold the bounds still.
+  sc.detect = near_bound || sc.pins_move || (sc.follow && ws.last_contacts > 0);
 }
 
 }  // namespace clothsim::detail

@@ -22,15 +22,15 @@ inline constexpr double kSelfGamma = 0.42;
 /// times its pairs' gaps less it, so that a squeeze does not shrink gaps toward rounding. A
 /// pair with a moving pin takes none: its free masses would stand still while the pin turns.
 inline constexpr double kSelfLeastGap = 0.02;
-/// The detection looks this many contact distances around each element.
-inline constexpr double kSelfRadius = 4.0;
-/// The candidate lists look farther by a skin (a Verlet list's): they hold until a pair they
-/// lack has two masses moved apart by more than the skin, or than its distance less `far`
-/// (self_lists.cpp). The lists reach at most this part of the mesh's typical shortest edge
-/// (its triangles' median), so that they hold few pairs of neighbouring elements of one
-/// layer; the skin is within these contact distances.
+/// The detection looks this many contact distances around each element, and its candidate
+/// lists farther by a skin (a Verlet list's): they hold until a pair they lack has two masses
+/// moved apart by more than the skin, or than its distance less `far` (self_lists.cpp). The
+/// lists reach at most this part of the mesh's typical shortest edge (its triangles' median),
+/// so that they hold few pairs of neighbouring elements of one layer: the radius is as large
+/// as that allows within its range, and the skin at least the radius and at most its most.
+inline constexpr double kSelfRadiusLeast = 2.0, kSelfRadiusMost = 4.0;
 inline constexpr double kSelfSkinReach = 0.75;
-inline constexpr double kSelfSkinLeast = 4.0, kSelfSkinMost = 8.0;
+inline constexpr double kSelfSkinMost = 8.0;
 /// The candidate lists' moves are bounded per cluster of at most this many masses.
 inline constexpr std::uint32_t kSelfCluster = 16;
 inline constexpr std::uint32_t kNoCluster = 0xffffffffu;
@@ -69,6 +69,8 @@ struct SelfScratch {
   std::uint64_t detections = 0;   ///< detections run
   std::vector<SelfPair> cand_vt, cand_ee;  ///< every pair within far + skin at xl
   Eigen::Matrix3Xd xl;            ///< (3 x n) the positions the candidates were found at
+  Eigen::Matrix3Xd xc;            ///< (3 x n) the positions at the last check that the lists hold
+  double slack = 0.0;             ///< m, how much more two masses may have moved apart since xc with the lists holding
   Eigen::Matrix3Xd dl;            ///< (3 x n) each mass's move since xl, at the last detection
   std::vector<double> reach, node_reach;  ///< m, (n) each mass's longest edge at xl; (mass tree nodes) their masses' longest
   std::vector<std::array<double, 6>> node_moved, triangle_moved, edge_moved;  ///< (each tree's nodes) the box of their masses' moves since xl
@@ -82,11 +84,15 @@ struct SelfScratch {
   std::vector<std::vector<std::uint32_t>> chosen;  ///< per part of the lists, while choosing `active`
   std::vector<std::uint64_t> order_keys;  ///< (active) lowest mass << 32 | candidate, while ordering `active`
   Eigen::Matrix3Xd xd;            ///< (3 x n) the positions at the last detection
+  bool common = false;            ///< no mass in a face is pinned: the bounds may follow the cloths' common move
+  bool follow = false;            ///< they do until the next detection: `common`, and no mass touched a collider
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();  ///< m, the common move since the detection (0 unless `follow`)
+  Eigen::Vector3d drift = Eigen::Vector3d::Zero();  ///< m/s, the common velocity (0 unless `follow`)
   Eigen::Matrix3Xd xs, xpre, vpre;  ///< (3 x n) at the step's start; before the stage's moves
   Eigen::Matrix3Xd xlim;          ///< (3 x n) strain limiting's result, while it is reached
   std::vector<std::uint8_t> held;     ///< (n) 1 if the stage held the mass at its bound this step
-  std::vector<double> bound;      ///< (n) m, how far each mass may be from xd (inf: pinned or in no face)
-  std::vector<double> away;       ///< (n) m, how far each mass is from xd, while pushing
+  std::vector<double> bound;      ///< (n) m, how far each mass may be from xd + shift (inf: pinned or in no face)
+  std::vector<double> away;       ///< (n) m, how far each mass is from xd + shift, while pushing
   std::vector<double> weight;     ///< (n) 1/kg, the inverse masses with the held masses at 0
   std::vector<double> pin_move;   ///< (n) m, how far a pinned mass moves in the next step (0: free)
   bool pins_move = false;         ///< some pin turns: detect before every step
@@ -125,11 +131,23 @@ inline const SelfPair& candidate(const SelfScratch& sc, std::uint32_t j) {
   return j < sc.cand_vt.size() ? sc.cand_vt[j] : sc.cand_ee[j - sc.cand_vt.size()];
 }
 
-/// Whether mass i, at x and moving at v for kSelfLookAhead steps of h, would pass its bound.
+/// How far mass i at x is from where its bound holds it: xd moved by the common move.
+inline double away_from(const SelfScratch& sc, const Eigen::Matrix3Xd& x, Eigen::Index i) {
+  return (x.col(i) - sc.xd.col(i) - sc.shift).norm();
+}
+
+/// Whether mass i, at x and moving at v for kSelfLookAhead steps of h, would pass its bound
+/// (both taken relative to the common move).
 inline bool nears_bound(const SelfScratch& sc, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, Eigen::Index i,
                         double h) {
-  return (x.col(i) - sc.xd.col(i)).norm() + kSelfLookAhead * h * v.col(i).norm() > sc.bound[static_cast<std::size_t>(i)];
+  return away_from(sc, x, i) + kSelfLookAhead * h * (v.col(i) - sc.drift).norm() > sc.bound[static_cast<std::size_t>(i)];
 }
+
+/// The cloths' common move since the detection and their common velocity (the means over the
+/// masses in faces), when `follow`. Two masses' relative move does not depend on it, so the
+/// bounds may follow it: a cloth that falls as one needs no detection for its fall. Not while
+/// a collider touches the cloth: a mass it stops would be dragged along by its bound.
+void find_common_move(const State& state, SelfScratch& sc);
 
 /// The stage's memory for a model with self-collision on and faces (else nullptr).
 std::shared_ptr<SelfScratch> make_self_scratch(const Model& model);

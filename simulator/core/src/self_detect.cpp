@@ -63,6 +63,18 @@ double median_shortest_edge(const Model& m) {
   return *mid;
 }
 
+// The detection radius, `far` and the skin: the candidate lists reach kSelfSkinReach of the
+// mesh's typical shortest edge, with the radius and skin as large as that allows within their ranges.
+void choose_reach(double shortest_edge, SelfScratch& sc) {
+  const double d = sc.distance, budget = kSelfSkinReach * shortest_edge;
+  const double r = std::clamp((budget / d - 1.0) / (1.0 + 2.0 * kSelfGamma), kSelfRadiusLeast, kSelfRadiusMost);
+  sc.radius = r * d;
+  // A pair farther than the radius bounds no mass below it; bounds of at most kSelfGamma times
+  // the radius keep a pair this far beyond the contact distance until the next detection.
+  sc.far = std::max(sc.radius, d + 2.0 * kSelfGamma * sc.radius);
+  sc.skin = std::clamp(budget - sc.far, sc.radius, kSelfSkinMost * d);
+}
+
 }  // namespace
 
 std::shared_ptr<SelfScratch> make_self_scratch(const Model& model) {
@@ -81,13 +93,9 @@ std::shared_ptr<SelfScratch> make_self_scratch(const Model& model) {
   for (std::size_t i = 0; i < model.mass_count(); ++i)
     if (sc->in_face[i]) sc->faced_masses.push_back(static_cast<std::uint32_t>(i));
   for (const auto& [a, b] : edges) sc->edges.push_back(a), sc->edges.push_back(b);
+  sc->common = std::none_of(sc->faced_masses.begin(), sc->faced_masses.end(), [&](std::uint32_t i) { return model.pinned[i] != 0; });
   sc->distance = model.contact.distance;
-  sc->radius = kSelfRadius * sc->distance;
-  // A pair farther than the radius bounds no mass below it; bounds of at most kSelfGamma times
-  // the radius keep a pair this far beyond the contact distance until the next detection.
-  sc->far = std::max(sc->radius, sc->distance + 2.0 * kSelfGamma * sc->radius);
-  sc->skin = std::clamp(kSelfSkinReach * median_shortest_edge(model) - sc->far, kSelfSkinLeast * sc->distance,
-                        kSelfSkinMost * sc->distance);
+  choose_reach(median_shortest_edge(model), *sc);
   const auto n = static_cast<Eigen::Index>(model.mass_count());
   sc->xd = sc->xs = sc->xpre = sc->vpre = sc->xlim = Eigen::Matrix3Xd::Zero(3, n);
   sc->bound.assign(model.mass_count(), std::numeric_limits<double>::infinity());
@@ -127,6 +135,8 @@ void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, 
   for (std::size_t i = 0; i < m.mass_count(); ++i) sc.bound[i] *= kSelfGamma;
   keep_reachable(sc, x);
   sc.xd = x;
+  sc.shift.setZero(), sc.drift.setZero();
+  sc.follow = sc.common && ws.last_contacts == 0;
   sc.detect = false;
   ++sc.detections;
 }

@@ -210,9 +210,10 @@ void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
 
 // Whether primitive pair (i of ta, j of tb, places in their trees' order) can be within `far` at x
 // though not listed: it shares no mass, was at least far + skin apart at xl, and its masses have
-// moved apart by more than that distance less `far`.
-bool pair_stale(const SelfScratch& sc, const SelfBvh& ta, std::uint32_t i, const SelfBvh& tb,
-                std::uint32_t j) {
+// moved apart by more than that distance less `far`. If not, slack is at most how much more
+// they may move apart.
+bool pair_stale(const SelfScratch& sc, const SelfBvh& ta, std::uint32_t i, const SelfBvh& tb, std::uint32_t j,
+                double& slack) {
   const auto ka = static_cast<std::size_t>(ta.k), kb = static_cast<std::size_t>(tb.k);
   const std::uint32_t *pa = &ta.corners[ta.order[i] * ka], *pb = &tb.corners[tb.order[j] * kb];
   double most = 0.0;
@@ -222,11 +223,17 @@ bool pair_stale(const SelfScratch& sc, const SelfBvh& ta, std::uint32_t i, const
       most = std::max(most, (move_of(sc, pa[a]) - move_of(sc, pb[b])).norm());
     }
   const Box &ba = ta.box[i], &bb = tb.box[j];
-  if (most <= std::max(sc.skin, box_distance(ba.data(), ba.data() + 3, bb.data(), bb.data() + 3) - sc.far)) return false;
+  const double allowed = std::max(sc.skin, box_distance(ba.data(), ba.data() + 3, bb.data(), bb.data() + 3) - sc.far);
+  if (most <= allowed) {
+    slack = std::min(slack, allowed - most);
+    return false;
+  }
   const std::uint32_t q[4] = {pa[0], ka > 1 ? pa[1] : pb[0], ka > 1 ? pb[0] : pb[1], pb[ka > 1 ? 1 : 2]};
   double coef[4];
   const double at_xl = pair_gap(sc.xl, q, ka == 1, coef).norm();
-  return at_xl >= sc.far + sc.skin && most > at_xl - sc.far;
+  if (at_xl < sc.far + sc.skin) return false;  // (listed)
+  slack = std::min(slack, at_xl - sc.far - most);
+  return most > at_xl - sc.far;
 }
 
 // Whether the lists still hold every pair of primitives under trees ta and tb (one tree: each
@@ -234,6 +241,7 @@ bool pair_stale(const SelfScratch& sc, const SelfBvh& ta, std::uint32_t i, const
 // masses, one of each element, have moved apart since xl.
 bool pairs_hold(SelfScratch& sc, const SelfBvh& ta, const std::vector<Box>& ma,
                 const SelfBvh& tb, const std::vector<Box>& mb) {
+  double& slack = sc.slack;
   const bool self = &ta == &tb;
   auto& stack = sc.node_pairs;
   stack.assign(1, {0, 0});
@@ -241,11 +249,15 @@ bool pairs_hold(SelfScratch& sc, const SelfBvh& ta, const std::vector<Box>& ma,
     const auto [a, b] = stack.back();
     stack.pop_back();
     const auto &na = ta.nodes[a], &nb = tb.nodes[b];
-    if (apart(ma[a], mb[b]) <= std::max(sc.skin, node_distance(na, nb) - sc.far)) continue;
+    const double allowed = std::max(sc.skin, node_distance(na, nb) - sc.far), moved = apart(ma[a], mb[b]);
+    if (moved <= allowed) {
+      slack = std::min(slack, allowed - moved);
+      continue;
+    }
     if (na.count > 0 && nb.count > 0) {
       for (std::uint32_t i = na.first; i < na.first + na.count; ++i)
         for (std::uint32_t j = self && a == b ? i + 1 : nb.first; j < nb.first + nb.count; ++j)
-          if (pair_stale(sc, ta, i, tb, j)) return false;
+          if (pair_stale(sc, ta, i, tb, j, slack)) return false;
     } else {
       ta.descend(tb, {a, b}, na.count > 0, nb.count > 0, stack);
     }
@@ -253,10 +265,22 @@ bool pairs_hold(SelfScratch& sc, const SelfBvh& ta, const std::vector<Box>& ma,
   return true;
 }
 
-// Whether the lists still hold every pair within `far` at x (the masses' moves are bounded on the way).
+// Whether the lists still hold every pair within `far` at x (the masses' moves are bounded on the
+// way). When they do, the masses may move apart by the slack more and they still hold: no check
+// while no two masses have moved apart by the last check's slack since it.
 bool candidates_hold(const Eigen::Matrix3Xd& x, SelfScratch& sc) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Box since = {inf, inf, inf, -inf, -inf, -inf};
+  for (std::uint32_t i : sc.faced_masses) {
+    const Eigen::Vector3d d = x.col(i) - sc.xc.col(i);
+    for (int a = 0; a < 3; ++a) since[a] = std::min(since[a], d[a]), since[a + 3] = std::max(since[a + 3], d[a]);
+  }
   bound_moves(sc, x);
-  if (apart(sc.node_moved[0], sc.node_moved[0]) <= sc.skin) return true;  // (no two masses moved apart by more)
+  if (apart(since, since) < sc.slack) return true;
+  sc.xc = x;
+  sc.slack = sc.skin - apart(sc.node_moved[0], sc.node_moved[0]);
+  if (sc.slack >= 0.0) return true;  // (no two masses moved apart by more than the skin)
+  sc.slack = std::numeric_limits<double>::infinity();
   bound_moves(sc, sc.triangle_tree, sc.triangle_moved);
   bound_moves(sc, sc.edge_tree, sc.edge_moved);
   return pairs_hold(sc, sc.mass_tree, sc.node_moved, sc.triangle_tree, sc.triangle_moved) &&
@@ -304,6 +328,8 @@ void find_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc,
   if (sc.xl.cols() != x.cols() || !candidates_hold(x, sc)) {  // (the check bounds the moves)
     build_candidates(m, x, sc, ws);
     bound_moves(sc, x);
+    sc.xc = x;
+    sc.slack = sc.skin;
   }
   bound_gap_changes(sc);
   // The candidates that may now be within `far`, all those of a pin that moves: a few runs of
