@@ -34,7 +34,7 @@ inline constexpr std::size_t kTeamWork = 4096;
 inline int team(const Workspace& ws, std::size_t work) { return work >= kTeamWork ? ws.threads : 1; }
 
 /// Runs body(i) for i in [0, n) on nt threads, a static share each; on one thread without an
-/// OpenMP region (entering one costs a system call, ~0.4 us, even on one thread).
+/// OpenMP region (libgomp makes a system call to enter one, even for one thread).
 template <class Body>
 void parallel_for(int nt, std::int64_t n, Body&& body) {
   if (nt <= 1) {
