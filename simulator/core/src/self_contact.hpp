@@ -27,7 +27,8 @@ inline constexpr double kSelfLeastGap = 0.02;
 /// moved apart by more than the skin, or than its distance less `far` (self_lists.cpp). The
 /// lists reach at most this part of the mesh's typical shortest edge (its triangles' median),
 /// so that they hold few pairs of neighbouring elements of one layer: the radius is as large
-/// as that allows within its range, and the skin at least the radius and at most its most.
+/// as that allows within its range, and the skin is at least the radius and at most
+/// kSelfSkinMost contact distances.
 inline constexpr double kSelfRadiusLeast = 2.0, kSelfRadiusMost = 4.0;
 inline constexpr double kSelfSkinReach = 0.75;
 inline constexpr double kSelfSkinMost = 8.0;
