@@ -26,7 +26,7 @@ void symplectic_euler(const Model& model, State& state, Workspace& ws, double h,
     const auto nm = static_cast<std::size_t>(n);
     const auto share = [nm](std::size_t t, std::size_t parts) { return std::min(nm, (nm * t / parts + 3) / 4 * 4); };
     bool x_ok = true, v_ok = true;
-    if (nt <= 1) {  // (no region on one thread: parallel_for)
+    if (nt <= 1) {  // (on one thread no OpenMP region, as in parallel_for)
       x_ok = drift_avx2(px, pv, pinned, h, nm);
     } else {
 #pragma omp parallel num_threads(nt) reduction(&& : x_ok)
