@@ -18,10 +18,6 @@
 #include "collider.hpp"
 #include "kernel.hpp"
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define CLOTHSIM_AVX2 1
-#endif
-
 namespace clothsim::detail {
 
 // Squared distance from p to the axis-aligned box [lo, hi] (0 inside).

@@ -10,10 +10,6 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <immintrin.h>
-#define CLOTHSIM_AVX2 1
-#endif
 
 namespace clothsim::detail {
 

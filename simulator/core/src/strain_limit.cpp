@@ -91,9 +91,12 @@ void held_reach(const Model& m, Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* v, const 
 // springs (Dijkstra from all of them at once, on rest lengths: a path no shorter than the
 // cloth's own), and a mass farther from it than cap times that path is put back on its
 // sphere, as on a pin's (the held mass does not move: any order). A hanging part then hangs
-// from where the colliders hold the cloth, however long the way.
+// from where the colliders hold the cloth, however long the way. The paths are found again
+// only when the held masses change.
 void attach_to_held(const Model& m, State& s, Workspace& ws, double cap) {
   if (ws.held.empty()) return;
+  if (ws.held == ws.anchored) return held_reach(m, s.x, &s.v, ws, cap);
+  ws.anchored = ws.held;
   auto& heap = ws.frontier;
   const auto later = [](const auto& p, const auto& q) { return p.first > q.first; };
   heap.clear();

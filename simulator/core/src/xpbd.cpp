@@ -10,6 +10,7 @@
 #include "integrator_scratch.hpp"
 #include "parallel.hpp"
 #include "stages.hpp"
+#include "xpbd_links.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -19,40 +20,34 @@ namespace clothsim::detail {
 namespace {
 
 
-// Runs one(link) over every link, colour by colour, each colour split between threads.
-template <class One>
-void by_colour(const Colouring& c, const Workspace& ws, One one) {
+// Runs run(links, count, wide) over every colour's links, each colour split between threads;
+// wide when no two of the links share a mass (the last colour may).
+template <class Run>
+void by_colour(const Colouring& c, const Workspace& ws, Run run) {
   const std::size_t colours = c.start.size() - 1;
   for (std::size_t k = 0; k < colours; ++k) {
-    const auto begin = static_cast<std::int64_t>(c.start[k]), end = static_cast<std::int64_t>(c.start[k + 1]);
-    const bool serial = k + 1 == colours;  // (the last colour may share masses)
-    const int nt = serial ? 1 : team(ws, static_cast<std::size_t>(end - begin));
-    parallel_for(nt, end - begin, [&](std::int64_t j) { one(c.links[static_cast<std::size_t>(begin + j)]); });
+    const std::size_t begin = c.start[k], count = c.start[k + 1] - begin;
+    if (k + 1 == colours) {
+      run(c.links.data() + begin, count, false);
+      continue;
+    }
+    parallel_region(team(ws, count), [&](int t, int parts) {
+      const std::size_t i0 = count * static_cast<std::size_t>(t) / static_cast<std::size_t>(parts);
+      const std::size_t i1 = count * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(parts);
+      run(c.links.data() + begin + i0, i1 - i0, true);
+    });
   }
 }
 
-// One structural spring as a compliant distance constraint (lambda from 0): alpha~ = 1/(k h^2).
-inline void project(const Link& l, const double* w, double inv_h2, double* x) {
-  double* pa = x + 3 * std::size_t{l.a};
-  double* pb = x + 3 * std::size_t{l.b};
-  const double wa = w[l.a], wb = w[l.b];
-  const double dx = pa[0] - pb[0], dy = pa[1] - pb[1], dz = pa[2] - pb[2];
-  const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-  if (len == 0.0) return;  // no direction: no correction (as the force stage)
-  const double scale = (l.rest - len) / (wa + wb + inv_h2 / l.k) / len;
-  pa[0] += wa * scale * dx, pa[1] += wa * scale * dy, pa[2] += wa * scale * dz;
-  pb[0] -= wb * scale * dx, pb[1] -= wb * scale * dy, pb[2] -= wb * scale * dz;
-}
-
-// One bend spring's pull on the velocities over h (report eq. 4).
-inline void bend(const Link& l, const double* w, double h, const double* x, double* v) {
-  const std::size_t a = 3 * std::size_t{l.a}, b = 3 * std::size_t{l.b};
-  const double dx = x[a] - x[b], dy = x[a + 1] - x[b + 1], dz = x[a + 2] - x[b + 2];
-  const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-  if (len == 0.0) return;
-  const double c = h * l.k * (l.rest - len) / len, ca = c * w[l.a], cb = c * w[l.b];
-  v[a] += ca * dx, v[a + 1] += ca * dy, v[a + 2] += ca * dz;
-  v[b] -= cb * dx, v[b + 1] -= cb * dy, v[b + 2] -= cb * dz;
+// Every structural spring projected once, colour by colour.
+void project_all(const Colouring& c, const Workspace& ws, const double* w, double inv_h2, double* x) {
+  by_colour(c, ws, [&](const Link* l, std::size_t n, bool wide) {
+#ifdef CLOTHSIM_AVX2
+    if (wide && use_avx2()) return project_links_avx2(l, n, w, inv_h2, x);
+#endif
+    (void)wide;
+    for (std::size_t j = 0; j < n; ++j) project(l[j], w, inv_h2, x);
+  });
 }
 
 // The user's pull on the dragged mass, over h.
@@ -69,7 +64,13 @@ void pull(const Model& m, State& s, const Workspace& ws, double h) {
 // v <- (v + h g) / (1 + h gamma / m), stable for any step); the positions are predicted.
 void predict(const Model& m, State& s, IntegratorScratch& sc, const Workspace& ws, double h) {
   const double* w = m.inv_mass.data();
-  by_colour(sc.bend, ws, [&](const Link& l) { bend(l, w, h, s.x.data(), s.v.data()); });
+  by_colour(sc.bend, ws, [&](const Link* l, std::size_t count, bool wide) {
+#ifdef CLOTHSIM_AVX2
+    if (wide && use_avx2()) return bend_links_avx2(l, count, w, h, s.x.data(), s.v.data());
+#endif
+    (void)wide;
+    for (std::size_t j = 0; j < count; ++j) bend(l[j], w, h, s.x.data(), s.v.data());
+  });
   pull(m, s, ws, h);
   const bool contact = m.colliders != nullptr;
   const auto n = static_cast<std::int64_t>(m.mass_count());
@@ -108,19 +109,14 @@ void push_out(const Model& m, State& s, IntegratorScratch& sc, Workspace& ws, do
 
 void relax_structural(const Model&, Eigen::Matrix3Xd& x, const double* w, Workspace& ws, double h) {
   IntegratorScratch& sc = *ws.integrator_scratch;
-  const double inv_h2 = 1.0 / (h * h);
-  double* p = x.data();
-  by_colour(sc.structural, ws, [&](const Link& l) { project(l, w, inv_h2, p); });
+  project_all(sc.structural, ws, w, 1.0 / (h * h), x.data());
 }
 
 void xpbd(const Model& m, State& s, Workspace& ws, double h) {
   IntegratorScratch& sc = *ws.integrator_scratch;
   if (sc.bend.start.empty()) sc.structural = colour_springs(m, 0), sc.bend = colour_springs(m, 1);  // (once)
   predict(m, s, sc, ws, h);
-  const double inv_h2 = 1.0 / (h * h);
-  const double* w = m.inv_mass.data();
-  double* x = s.x.data();
-  by_colour(sc.structural, ws, [&](const Link& l) { project(l, w, inv_h2, x); });
+  project_all(sc.structural, ws, m.inv_mass.data(), 1.0 / (h * h), s.x.data());
   keep_in_reach(m, s.x, ws);
   push_out(m, s, sc, ws, h);
 }

@@ -71,8 +71,9 @@ struct Workspace {
   std::vector<std::uint8_t> listed;          ///< (s) limit_strain's marks: springs in its next pass
   /// The masses the colliders held in the last step (n; with a strain limit and colliders), and
   /// limit_strain's attachments to them: each mass's nearest held mass along the cloth's
-  /// structural springs (kNoMass: none) and that path's rest length, m; `frontier` its heap.
-  std::vector<std::uint8_t> held;
+  /// structural springs (kNoMass: none) and that path's rest length, m; `frontier` its heap;
+  /// `anchored` the held masses the attachments were found for (they change only with them).
+  std::vector<std::uint8_t> held, anchored;
   std::vector<std::uint32_t> anchor;
   std::vector<double> reach;
   std::vector<std::pair<double, std::uint32_t>> frontier;
