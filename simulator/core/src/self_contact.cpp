@@ -15,9 +15,9 @@ namespace clothsim::detail {
 
 namespace {
 
-// How far each mass is from where it was at the detection.
+// How far each mass of a pair is from where it was at the detection.
 void measure_away(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
-  for (Eigen::Index i = 0; i < x.cols(); ++i) sc.away[static_cast<std::size_t>(i)] = away_from(sc, x, i);
+  for (const std::uint32_t i : sc.pair_masses) sc.away[i] = away_from(sc, x, i);
 }
 
 // Pushes one pair apart to its target, with friction on the relative tangential move since xs.
@@ -80,6 +80,7 @@ bool hold(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, const Worksp
   return parallel_any(team(ws, model.mass_count()), n, [&](std::int64_t i) {
     const double b = sc.bound[static_cast<std::size_t>(i)];
     const Eigen::Vector3d d = x.col(i) - sc.xd.col(i) - sc.shift;
+    if (d.squaredNorm() < kSurelyWithin * b * b) return false;
     const double len = d.norm();
     if (!(len > b && model.inv_mass[i] != 0.0)) return false;
     x.col(i) = sc.xd.col(i) + sc.shift + (b / len) * d;
@@ -119,7 +120,6 @@ void limit_strain_within_bounds(const Model& model, State& state, Workspace& ws,
 void self_contact_end(const Model& model, State& state, Workspace& ws, double h) {
   SelfScratch& sc = *ws.self;
   sc.xpre = state.x;
-  sc.vpre = state.v;
   find_common_move(state, sc);
   std::fill(sc.held.begin(), sc.held.end(), std::uint8_t{0});
   // Pushes and bounds in turn: a push the bounds cut short gets another try within them. With
@@ -138,8 +138,8 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
     if (!pushed && !held) break;
   }
   // The velocities take the pushes; a mass held at its bound keeps its velocity but the part
-  // that leaves the bound (an inelastic stop: holding never adds energy). Detect again when a
-  // mass may reach its bound in the next step.
+  // that leaves the bound (an inelastic stop: holding never adds energy; the passes above
+  // move only positions). Detect again when a mass may reach its bound in the next step.
   const auto n = static_cast<std::int64_t>(model.mass_count());
   const bool near_bound = parallel_any(team(ws, model.mass_count()), n, [&](std::int64_t i) {
     const double b = sc.bound[static_cast<std::size_t>(i)];
@@ -147,7 +147,7 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
     const Eigen::Vector3d out = state.x.col(i) - sc.xd.col(i) - sc.shift;
     if (sc.held[static_cast<std::size_t>(i)] && out.norm() > 0.0) {
       const Eigen::Vector3d u = out.normalized();
-      state.v.col(i) = sc.vpre.col(i) - std::max(0.0, sc.vpre.col(i).dot(u)) * u;
+      state.v.col(i) -= std::max(0.0, state.v.col(i).dot(u)) * u;
     } else {
       state.v.col(i) += (state.x.col(i) - sc.xpre.col(i)) / h;
     }

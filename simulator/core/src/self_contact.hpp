@@ -89,7 +89,7 @@ struct SelfScratch {
   bool follow = false;            ///< they do until the next detection: `common`, and no mass touched a collider
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();  ///< m, the common move since the detection (0 unless `follow`)
   Eigen::Vector3d drift = Eigen::Vector3d::Zero();  ///< m/s, the common velocity (0 unless `follow`)
-  Eigen::Matrix3Xd xs, xpre, vpre;  ///< (3 x n) at the step's start; before the stage's moves
+  Eigen::Matrix3Xd xs, xpre;      ///< (3 x n) at the step's start; before the stage's moves
   Eigen::Matrix3Xd xlim;          ///< (3 x n) strain limiting's result, while it is reached
   std::vector<std::uint8_t> held;     ///< (n) 1 if the stage held the mass at its bound this step
   std::vector<double> bound;      ///< (n) m, how far each mass may be from xd + shift (inf: pinned or in no face)
@@ -99,6 +99,7 @@ struct SelfScratch {
   bool pins_move = false;         ///< some pin turns: detect before every step
   std::vector<std::uint8_t> in_face;  ///< (n) 1 if the mass is a corner of a face
   std::vector<SelfContact> vt, ee;  ///< the pairs of the last detection
+  std::vector<std::uint32_t> pair_masses;  ///< the masses in them, each once
   std::vector<std::vector<SelfPair>> found;  ///< per task, while building the candidate lists
   double distance = 0.0;          ///< m, the contact distance between layers
   double radius = 0.0;            ///< m, how far a detection looks
@@ -132,6 +133,10 @@ inline const SelfPair& candidate(const SelfScratch& sc, std::uint32_t j) {
   return j < sc.cand_vt.size() ? sc.cand_vt[j] : sc.cand_ee[j - sc.cand_vt.size()];
 }
 
+/// A squared length below this part of a squared bound is surely within the bound, rounding
+/// and all: the tests that compare lengths with bounds skip the square root then.
+inline constexpr double kSurelyWithin = 0.98;
+
 /// How far mass i at x is from where its bound holds it: xd moved by the common move.
 inline double away_from(const SelfScratch& sc, const Eigen::Matrix3Xd& x, Eigen::Index i) {
   return (x.col(i) - sc.xd.col(i) - sc.shift).norm();
@@ -141,7 +146,11 @@ inline double away_from(const SelfScratch& sc, const Eigen::Matrix3Xd& x, Eigen:
 /// (both taken relative to the common move).
 inline bool nears_bound(const SelfScratch& sc, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, Eigen::Index i,
                         double h) {
-  return away_from(sc, x, i) + kSelfLookAhead * h * (v.col(i) - sc.drift).norm() > sc.bound[static_cast<std::size_t>(i)];
+  const double b = sc.bound[static_cast<std::size_t>(i)];
+  const Eigen::Vector3d out = x.col(i) - sc.xd.col(i) - sc.shift, ahead = kSelfLookAhead * h * (v.col(i) - sc.drift);
+  // (a + s <= sqrt(2 (a^2 + s^2)): most masses are answered without a square root)
+  if (2.0 * (out.squaredNorm() + ahead.squaredNorm()) < kSurelyWithin * b * b) return false;
+  return away_from(sc, x, i) + kSelfLookAhead * h * (v.col(i) - sc.drift).norm() > b;
 }
 
 /// The cloths' common move since the detection and their common velocity (the means over the

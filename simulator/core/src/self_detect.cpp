@@ -31,6 +31,11 @@ void keep_reachable(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
     const double len = g.norm();
     (vertex_triangle ? sc.vt : sc.ee).push_back({p, len > 0.0 ? Eigen::Vector3d(g / len) : Eigen::Vector3d::Zero()});
   }
+  sc.pair_masses.clear();
+  for (const auto* list : {&sc.vt, &sc.ee})
+    for (const SelfContact& c : *list) sc.pair_masses.insert(sc.pair_masses.end(), c.pair.mass, c.pair.mass + 4);
+  std::sort(sc.pair_masses.begin(), sc.pair_masses.end());
+  sc.pair_masses.erase(std::unique(sc.pair_masses.begin(), sc.pair_masses.end()), sc.pair_masses.end());
 }
 
 // The gaps of the active candidates at x (threads split them; each pair writes its own); a
@@ -97,7 +102,7 @@ std::shared_ptr<SelfScratch> make_self_scratch(const Model& model) {
   sc->distance = model.contact.distance;
   choose_reach(median_shortest_edge(model), *sc);
   const auto n = static_cast<Eigen::Index>(model.mass_count());
-  sc->xd = sc->xs = sc->xpre = sc->vpre = sc->xlim = Eigen::Matrix3Xd::Zero(3, n);
+  sc->xd = sc->xs = sc->xpre = sc->xlim = Eigen::Matrix3Xd::Zero(3, n);
   sc->bound.assign(model.mass_count(), std::numeric_limits<double>::infinity());
   sc->pin_move.assign(model.mass_count(), 0.0);
   sc->weight.assign(model.mass_count(), 0.0);
