@@ -186,6 +186,7 @@ void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& move
   moves.resize(t.nodes.size());
   constexpr double inf = std::numeric_limits<double>::infinity();
   const auto k = static_cast<std::size_t>(t.k);
+  const double* dl = sc.dl.data();
   for (std::size_t i = t.nodes.size(); i-- > 0;) {
     const auto& nd = t.nodes[i];
     Box& b = moves[i];
@@ -194,12 +195,15 @@ void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& move
       for (int a = 0; a < 3; ++a) b[a] = std::min(l[a], r[a]), b[a + 3] = std::max(l[a + 3], r[a + 3]);
       continue;
     }
-    b = {inf, inf, inf, -inf, -inf, -inf};
-    for (std::uint32_t j = nd.first; j < nd.first + nd.count; ++j)
-      for (std::size_t c = 0; c < k; ++c) {
-        const Eigen::Vector3d d = move_of(sc, t.corners[t.order[j] * k + c]);
-        for (int a = 0; a < 3; ++a) b[a] = std::min(b[a], d[a]), b[a + 3] = std::max(b[a + 3], d[a]);
+    double lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
+    for (std::uint32_t j = nd.first; j < nd.first + nd.count; ++j) {
+      const std::uint32_t* c = &t.corners[t.order[j] * k];
+      for (std::size_t q = 0; q < k; ++q) {
+        const double* d = dl + 3 * std::size_t{c[q]};
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], d[a]), hi[a] = std::max(hi[a], d[a]);
       }
+    }
+    b = {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]};
   }
 }
 
