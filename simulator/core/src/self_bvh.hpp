@@ -53,8 +53,8 @@ struct SelfBvh {
     }
   }
 
-  /// Calls f(p, q) for every primitive p under node pair np.a and q under np.b whose boxes
-  /// are within r of each other. A self-join gives each unordered pair p != q once.
+  /// Calls f(p, q) for every primitive p under node pair np.a and q under np.b whose boxes,
+  /// p's grown by r, meet. A self-join gives each unordered pair p != q once.
   template <class F>
   void join(const SelfBvh& other, NodePair np, double r, F&& f) const {
     const bool self = &other == this;
@@ -67,7 +67,7 @@ struct SelfBvh {
       if (na.count > 0 && nb.count > 0) {
         for (std::uint32_t i = na.first; i < na.first + na.count; ++i)
           for (std::uint32_t j = self && a == b ? i + 1 : nb.first; j < nb.first + nb.count; ++j)
-            if (within(box[i], other.box[j], r)) f(order[i], other.order[j]);
+            if (near(box[i], other.box[j], r)) f(order[i], other.order[j]);
       } else {
         descend(other, {a, b}, na.count > 0, nb.count > 0, stack);
       }
@@ -83,15 +83,6 @@ struct SelfBvh {
   static bool near(const std::array<double, 6>& p, const std::array<double, 6>& q, double r) {
     return p[0] - r <= q[3] && p[3] + r >= q[0] && p[1] - r <= q[4] && p[4] + r >= q[1] && p[2] - r <= q[5] &&
            p[5] + r >= q[2];
-  }
-  /// Whether two primitives' boxes are within r of each other (no two of their points are nearer).
-  static bool within(const std::array<double, 6>& p, const std::array<double, 6>& q, double r) {
-    double s = 0.0;
-    for (int a = 0; a < 3; ++a) {
-      const double d = std::max(0.0, std::max(p[a] - q[a + 3], q[a] - p[a + 3]));
-      s += d * d;
-    }
-    return s <= r * r;
   }
   static double extent(const Node& n) { return std::max({n.hi[0] - n.lo[0], n.hi[1] - n.lo[1], n.hi[2] - n.lo[2]}); }
 };

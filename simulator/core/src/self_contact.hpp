@@ -100,6 +100,8 @@ struct SelfScratch {
   std::vector<std::uint8_t> in_face;  ///< (n) 1 if the mass is a corner of a face
   std::vector<SelfContact> vt, ee;  ///< the pairs of the last detection
   std::vector<std::uint32_t> pair_masses;  ///< the masses in them, each once
+  std::vector<std::uint64_t> listed;  ///< (n) the stamp of the last list of masses each was put in
+  std::uint64_t stamp = 0;
   std::vector<std::vector<SelfPair>> found;  ///< per task, while building the candidate lists
   double distance = 0.0;          ///< m, the contact distance between layers
   double radius = 0.0;            ///< m, how far a detection looks

@@ -31,11 +31,11 @@ void keep_reachable(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
     const double len = g.norm();
     (vertex_triangle ? sc.vt : sc.ee).push_back({p, len > 0.0 ? Eigen::Vector3d(g / len) : Eigen::Vector3d::Zero()});
   }
-  sc.pair_masses.clear();
+  sc.pair_masses.clear(), ++sc.stamp;  // (each mass once: the stamp marks those listed)
   for (const auto* list : {&sc.vt, &sc.ee})
-    for (const SelfContact& c : *list) sc.pair_masses.insert(sc.pair_masses.end(), c.pair.mass, c.pair.mass + 4);
-  std::sort(sc.pair_masses.begin(), sc.pair_masses.end());
-  sc.pair_masses.erase(std::unique(sc.pair_masses.begin(), sc.pair_masses.end()), sc.pair_masses.end());
+    for (const SelfContact& c : *list)
+      for (const std::uint32_t i : c.pair.mass)
+        if (sc.listed[i] != sc.stamp) sc.listed[i] = sc.stamp, sc.pair_masses.push_back(i);
 }
 
 // The gaps of the active candidates at x (threads split them; each pair writes its own); a
@@ -111,6 +111,7 @@ std::shared_ptr<SelfScratch> make_self_scratch(const Model& model) {
   sc->cluster_of.assign(model.mass_count(), 0);
   sc->reach.assign(model.mass_count(), 0.0);
   sc->away.assign(model.mass_count(), 0.0);
+  sc->listed.assign(model.mass_count(), 0);
   return sc;
 }
 
