@@ -61,38 +61,36 @@ __attribute__((target("avx2"), always_inline)) inline __m256d k_of(const Link* l
   return _mm256_setr_pd(l[0].k, l[1].k, l[2].k, l[3].k);
 }
 
-}  // namespace
-
-__attribute__((target("avx2"))) void project_links_avx2(const Link* links, std::size_t n, const double* w,
-                                                        double inv_h2, double* x) {
-  const __m256d ih2 = _mm256_set1_pd(inv_h2);
+// The links [0, n) four at a time, the last n % 4 one at a time. Bend: each pulls on the
+// velocities y with c = h k (rest - len) / len (s = h); else each is projected on the positions
+// y = x with c = (rest - len) / (wa + wb + inv_h2 / k) / len (s = inv_h2). Either way mass a
+// moves by c wa d and mass b by -c wb d.
+template <bool Bend>
+__attribute__((target("avx2"))) void links_avx2(const Link* links, std::size_t n, const double* w, double s,
+                                                const double* x, double* y) {
+  const __m256d sv = _mm256_set1_pd(s);
   std::size_t j = 0;
   for (; j + 4 <= n; j += 4) {
     const Link* l = links + j;
     Four f;
     load_four(l, w, x, f);
-    // scale = (rest - len) / (wa + wb + inv_h2 / k) / len
-    const __m256d scale = _mm256_div_pd(
-        _mm256_div_pd(_mm256_sub_pd(rest_of(l), f.len), _mm256_add_pd(_mm256_add_pd(f.wa, f.wb), _mm256_div_pd(ih2, k_of(l)))),
-        f.len);
-    apply_four(l, f, _mm256_mul_pd(f.wa, scale), _mm256_mul_pd(f.wb, scale), x);
+    const __m256d stretch = _mm256_sub_pd(rest_of(l), f.len);
+    const __m256d c =
+        Bend ? _mm256_div_pd(_mm256_mul_pd(_mm256_mul_pd(sv, k_of(l)), stretch), f.len)
+             : _mm256_div_pd(_mm256_div_pd(stretch, _mm256_add_pd(_mm256_add_pd(f.wa, f.wb), _mm256_div_pd(sv, k_of(l)))), f.len);
+    apply_four(l, f, _mm256_mul_pd(c, f.wa), _mm256_mul_pd(c, f.wb), y);
   }
-  for (; j < n; ++j) project(links[j], w, inv_h2, x);
+  for (; j < n; ++j) Bend ? bend(links[j], w, s, x, y) : project(links[j], w, s, y);
 }
 
-__attribute__((target("avx2"))) void bend_links_avx2(const Link* links, std::size_t n, const double* w, double h,
-                                                     const double* x, double* v) {
-  const __m256d hv = _mm256_set1_pd(h);
-  std::size_t j = 0;
-  for (; j + 4 <= n; j += 4) {
-    const Link* l = links + j;
-    Four f;
-    load_four(l, w, x, f);
-    // c = h k (rest - len) / len
-    const __m256d c = _mm256_div_pd(_mm256_mul_pd(_mm256_mul_pd(hv, k_of(l)), _mm256_sub_pd(rest_of(l), f.len)), f.len);
-    apply_four(l, f, _mm256_mul_pd(c, f.wa), _mm256_mul_pd(c, f.wb), v);
-  }
-  for (; j < n; ++j) bend(links[j], w, h, x, v);
+}  // namespace
+
+void project_links_avx2(const Link* links, std::size_t n, const double* w, double inv_h2, double* x) {
+  links_avx2<false>(links, n, w, inv_h2, x, x);
+}
+
+void bend_links_avx2(const Link* links, std::size_t n, const double* w, double h, const double* x, double* v) {
+  links_avx2<true>(links, n, w, h, x, v);
 }
 
 }  // namespace clothsim::detail
