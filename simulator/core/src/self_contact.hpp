@@ -152,7 +152,7 @@ inline bool nears_bound(const SelfScratch& sc, const Eigen::Matrix3Xd& x, const 
   const Eigen::Vector3d out = x.col(i) - sc.xd.col(i) - sc.shift, ahead = kSelfLookAhead * h * (v.col(i) - sc.drift);
   // (a + s <= sqrt(2 (a^2 + s^2)): most masses are answered without a square root)
   if (2.0 * (out.squaredNorm() + ahead.squaredNorm()) < kSurelyWithin * b * b) return false;
-  return away_from(sc, x, i) + kSelfLookAhead * h * (v.col(i) - sc.drift).norm() > b;
+  return out.norm() + kSelfLookAhead * h * (v.col(i) - sc.drift).norm() > b;
 }
 
 /// The cloths' common move since the detection and their common velocity (the means over the
