@@ -118,6 +118,56 @@ TEST(SelfLists, HoldEveryNearPairAsOneClothSlidesOverAnother) {
   EXPECT_GT(sc->builds, 2u) << "the slide brings new pairs near";
 }
 
+// A sheet that stretches and turns in its plane, above another that lies still: the pairs
+// whose masses move apart by more than the lists allow are listed late (those of one layer
+// never come near; those between the layers may), and the lists hold over several rounds.
+TEST(SelfLists, ASheetThatStretchesAndTurnsListsPairsLate) {
+  auto place = [](double a, double b, int k, double t) -> Eigen::Vector3d {
+    if (k == 0) return {a, 0.0, b};
+    const double turn = 0.6 * t, grow = 1.0 + 0.3 * t, c = std::cos(turn), s = std::sin(turn);
+    const double u = grow * (a - 0.5), w = grow * (b - 0.5);
+    return {0.5 + c * u - s * w, 0.02, 0.5 + s * u + c * w};
+  };
+  const Model m = sheets_model(2, [&](double a, double b, int k) { return place(a, b, k, 0.0); });
+  auto sc = detail::make_self_scratch(m);
+  ASSERT_TRUE(sc);
+  const Workspace ws = make_workspace(m);
+  constexpr int kRounds = 100;
+  Eigen::Matrix3Xd x = m.x0;
+  std::size_t late = 0;
+  for (int r = 0; r <= kRounds; ++r) {
+    place_sheets(x, 2, [&](double a, double b, int k) { return place(a, b, k, double(r) / kRounds); });
+    detail::find_candidates(m, x, *sc, ws);
+    expect_lists_hold(m, x, *sc, r);
+    late = std::max(late, sc->cand_vt.size() + sc->cand_ee.size() - sc->built_vt - sc->built_ee);
+  }
+  EXPECT_GT(late, 0u) << "pairs are found late";
+  EXPECT_LT(sc->builds, kRounds / 4u) << "the lists hold over several rounds";
+}
+
+// A sheet slides in from beside another, just above its level: the pairs between them come
+// near without the lists being built again, listed late as they come.
+TEST(SelfLists, PairsComingNearAreListedLate) {
+  auto place = [](double a, double b, int k, double t) -> Eigen::Vector3d {
+    return k == 0 ? Eigen::Vector3d(a, 0.0, b) : Eigen::Vector3d(a + 1.3 - 0.8 * t, 0.01, b);
+  };
+  const Model m = sheets_model(2, [&](double a, double b, int k) { return place(a, b, k, 0.0); });
+  auto sc = detail::make_self_scratch(m);
+  ASSERT_TRUE(sc);
+  const Workspace ws = make_workspace(m);
+  constexpr int kRounds = 100;
+  Eigen::Matrix3Xd x = m.x0;
+  std::size_t late = 0;
+  for (int r = 0; r <= kRounds; ++r) {
+    place_sheets(x, 2, [&](double a, double b, int k) { return place(a, b, k, double(r) / kRounds); });
+    detail::find_candidates(m, x, *sc, ws);
+    expect_lists_hold(m, x, *sc, r);
+    late = std::max(late, sc->cand_vt.size() + sc->cand_ee.size() - sc->built_vt - sc->built_ee);
+  }
+  EXPECT_GT(late, 100u) << "pairs are found late";
+  EXPECT_LT(sc->builds, 10u) << "the lists are seldom built again";
+}
+
 // A cloth that moves as one, however far, keeps the lists it started with.
 TEST(SelfLists, ACommonMoveKeepsTheLists) {
   const Model m = sheets_model(1, [](double a, double b, int) { return Eigen::Vector3d(a, 0.1 * std::sin(5.0 * a), b); });

@@ -54,24 +54,31 @@ struct SelfBvh {
   }
 
   /// Calls f(p, q) for every primitive p under node pair np.a and q under np.b whose boxes,
-  /// p's grown by r, meet. A self-join gives each unordered pair p != q once.
+  /// p's grown by r, meet. A self-join gives each unordered pair p != q once. Returns how many
+  /// node pairs and primitive pairs it tested.
   template <class F>
-  void join(const SelfBvh& other, NodePair np, double r, F&& f) const {
+  std::uint64_t join(const SelfBvh& other, NodePair np, double r, F&& f) const {
     const bool self = &other == this;
+    std::uint64_t tested = 0;
     std::vector<NodePair> stack{np};
     while (!stack.empty()) {
       const auto [a, b] = stack.back();
       stack.pop_back();
+      ++tested;
       const Node &na = nodes[a], &nb = other.nodes[b];
       if (!(self && a == b) && !near(na.lo, na.hi, nb.lo, nb.hi, r)) continue;
       if (na.count > 0 && nb.count > 0) {
-        for (std::uint32_t i = na.first; i < na.first + na.count; ++i)
-          for (std::uint32_t j = self && a == b ? i + 1 : nb.first; j < nb.first + nb.count; ++j)
+        for (std::uint32_t i = na.first; i < na.first + na.count; ++i) {
+          const std::uint32_t from = self && a == b ? i + 1 : nb.first;
+          tested += nb.first + nb.count - from;
+          for (std::uint32_t j = from; j < nb.first + nb.count; ++j)
             if (near(box[i], other.box[j], r)) f(order[i], other.order[j]);
+        }
       } else {
         descend(other, {a, b}, na.count > 0, nb.count > 0, stack);
       }
     }
+    return tested;
   }
 
   /// Whether two boxes, the first grown by r, meet.

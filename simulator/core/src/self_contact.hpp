@@ -10,6 +10,7 @@
 
 #include <array>
 #include <memory>
+#include <unordered_set>
 #include <vector>
 
 namespace clothsim::detail {
@@ -68,8 +69,12 @@ struct SelfScratch {
   SelfBvh mass_tree, triangle_tree, edge_tree;
   std::uint64_t builds = 0;       ///< candidate lists built (the trees are rebuilt every few)
   std::uint64_t detections = 0;   ///< detections run
-  std::vector<SelfPair> cand_vt, cand_ee;  ///< every pair within far + skin at xl
+  std::vector<SelfPair> cand_vt, cand_ee;  ///< every pair within far + skin at xl, then those found late
   Eigen::Matrix3Xd xl;            ///< (3 x n) the positions the candidates were found at
+  std::size_t built_vt = 0, built_ee = 0;  ///< how many of each list the build found; those after were found late
+  std::unordered_set<std::uint64_t> late;  ///< the pairs found late (kind, primitives)
+  std::uint64_t build_work = 0;   ///< the node pairs and pairs the last build tested
+  std::uint64_t check_work = 0;   ///< the node pairs and pairs the checks have tested since
   Eigen::Matrix3Xd xc;            ///< (3 x n) the positions at the last check that the lists hold
   double slack = 0.0;             ///< m, how much more two masses may have moved apart since xc with the lists holding
   Eigen::Matrix3Xd dl;            ///< (3 x n) each mass's move since xl, at the last detection
@@ -102,7 +107,11 @@ struct SelfScratch {
   std::vector<std::uint32_t> pair_masses;  ///< the masses in them, each once
   std::vector<std::uint64_t> listed;  ///< (n) the stamp of the last list of masses each was put in
   std::uint64_t stamp = 0;
-  std::vector<std::vector<SelfPair>> found;  ///< per task, while building the candidate lists
+  struct Found {
+    std::vector<SelfPair> pairs;
+    std::uint64_t tested = 0;  ///< node pairs and pairs
+  };
+  std::vector<Found> found;       ///< per task, while building the candidate lists
   double distance = 0.0;          ///< m, the contact distance between layers
   double radius = 0.0;            ///< m, how far a detection looks
   double far = 0.0;               ///< m, beyond this a pair neither bounds a mass nor comes into contact

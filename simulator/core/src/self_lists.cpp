@@ -1,8 +1,9 @@
 // The self-contact candidate lists (a Verlet list): every pair of elements within `far` and a
-// skin at the positions xl where they were found. A pair's gap changes by at most the largest
-// relative move of two of its masses since xl, so the lists hold while no two masses have moved
-// apart by more than the skin, or by more than their distance at xl allows when farther. The
-// check and the moves run over a tree of the masses at xl whose nodes bound their masses' moves.
+// skin at the positions xl where they were found, and the pairs found late. A pair's gap
+// changes by at most the largest relative move of two of its masses since xl, so a pair the
+// lists lack may be within `far` only when two of its masses have moved apart by more than the
+// skin, or by more than their distance at xl allows when farther; the check finds those pairs
+// and lists them. The check and the moves run over trees at xl whose nodes bound their masses' moves.
 #include "parallel.hpp"
 #include "self_contact.hpp"
 
@@ -46,27 +47,31 @@ double node_distance(const SelfBvh::Node& a, const SelfBvh::Node& b) {
 auto move_of(const SelfScratch& sc, std::uint32_t i) { return sc.dl.col(i); }
 
 // Finds the pairs of one kind, a task of `tasks` at a time on the Workspace's threads; the
-// tasks' lists join in task order, so the result is the same for any thread count.
+// tasks' lists join in task order, so the result is the same for any thread count. Counts the
+// node pairs and pairs tested into build_work.
 template <class Each>
 void find_pairs(const std::vector<SelfBvh::NodePair>& tasks, std::size_t work, SelfScratch& sc, const Workspace& ws,
                 std::vector<SelfPair>& out, Each each) {
   sc.found.resize(std::max(sc.found.size(), tasks.size()));
   parallel_for_dynamic(team(ws, work), static_cast<std::int64_t>(tasks.size()), [&](std::int64_t i) {
     auto& found = sc.found[static_cast<std::size_t>(i)];
-    found.clear();
+    found.pairs.clear(), found.tested = 0;
     each(tasks[static_cast<std::size_t>(i)], found);
   });
   out.clear();
-  for (std::size_t i = 0; i < tasks.size(); ++i) out.insert(out.end(), sc.found[i].begin(), sc.found[i].end());
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    out.insert(out.end(), sc.found[i].pairs.begin(), sc.found[i].pairs.end());
+    sc.build_work += sc.found[i].tested;
+  }
 }
 
 // A found pair: kept when nearer than r. Its target is found when it is first measured.
 void keep(const Eigen::Matrix3Xd& x, double r, std::array<std::uint32_t, 4> masses, bool vertex_triangle,
-          std::vector<SelfPair>& out) {
+          SelfScratch::Found& out) {
   SelfPair p{{masses[0], masses[1], masses[2], masses[3]}, -1.0, 0.0, 0.0};
   double coef[4];
   p.built = pair_gap(x, p.mass, vertex_triangle, coef).norm();
-  if (p.built < r) out.push_back(p);
+  if (p.built < r) out.pairs.push_back(p);
 }
 
 // The masses' clusters: the highest nodes of the masses' tree with at most kSelfCluster masses
@@ -159,22 +164,25 @@ void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc
   }
   const double r = sc.far + sc.skin;
   const std::size_t work = 4 * m.mass_count();
+  sc.build_work = 0, sc.check_work = 0;
   find_pairs(sc.mass_tree.join_tasks(sc.triangle_tree, r, kSelfJoinTasks), work, sc, ws, sc.cand_vt,
-             [&](SelfBvh::NodePair np, std::vector<SelfPair>& out) {
-               sc.mass_tree.join(sc.triangle_tree, np, r, [&](std::uint32_t i, std::uint32_t t) {
+             [&](SelfBvh::NodePair np, SelfScratch::Found& out) {
+               out.tested += sc.mass_tree.join(sc.triangle_tree, np, r, [&](std::uint32_t i, std::uint32_t t) {
                  const std::uint32_t v = sc.faced_masses[i], *c = &sc.triangles[3 * std::size_t{t}];
                  if (c[0] != v && c[1] != v && c[2] != v) keep(x, r, {v, c[0], c[1], c[2]}, true, out);
                });
              });
   find_pairs(sc.edge_tree.join_tasks(sc.edge_tree, r, kSelfJoinTasks), work, sc, ws, sc.cand_ee,
-             [&](SelfBvh::NodePair np, std::vector<SelfPair>& out) {
-               sc.edge_tree.join(sc.edge_tree, np, r, [&](std::uint32_t e, std::uint32_t f) {
+             [&](SelfBvh::NodePair np, SelfScratch::Found& out) {
+               out.tested += sc.edge_tree.join(sc.edge_tree, np, r, [&](std::uint32_t e, std::uint32_t f) {
                  const std::uint32_t* ab = &sc.edges[2 * std::size_t{std::min(e, f)}];
                  const std::uint32_t* cd = &sc.edges[2 * std::size_t{std::max(e, f)}];
                  if (cd[0] != ab[0] && cd[0] != ab[1] && cd[1] != ab[0] && cd[1] != ab[1])
                    keep(x, r, {ab[0], ab[1], cd[0], cd[1]}, false, out);
                });
              });
+  sc.built_vt = sc.cand_vt.size(), sc.built_ee = sc.cand_ee.size();
+  sc.late.clear();
   sc.xl = x;
   measure_reach(sc);
   if (rebuild) find_clusters(sc);
@@ -212,37 +220,50 @@ void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
   bound_moves(sc, sc.mass_tree, sc.node_moved);
 }
 
-// Whether primitive pair (i of ta, j of tb, places in their trees' order) can be within `far` at x
-// though not listed: it shares no mass, was at least far + skin apart at xl, and its masses have
-// moved apart by more than that distance less `far`. If not, slack is at most how much more
-// they may move apart.
-bool pair_stale(const SelfScratch& sc, const SelfBvh& ta, std::uint32_t i, const SelfBvh& tb, std::uint32_t j,
+// Checks primitive pair (i of ta, j of tb, places in their trees' order): one that shares no
+// mass, was at least far + skin apart at xl and whose masses have moved apart by more than
+// that distance less `far` may now be within `far`, and is listed (found late) if it is not
+// yet. Any other bounds the slack: how much more its masses may move apart.
+void check_pair(SelfScratch& sc, const SelfBvh& ta, std::uint32_t i, const SelfBvh& tb, std::uint32_t j,
                 double& slack) {
   const auto ka = static_cast<std::size_t>(ta.k), kb = static_cast<std::size_t>(tb.k);
   const std::uint32_t *pa = &ta.corners[ta.order[i] * ka], *pb = &tb.corners[tb.order[j] * kb];
+  ++sc.check_work;
   double most = 0.0;
   for (std::size_t a = 0; a < ka; ++a)
     for (std::size_t b = 0; b < kb; ++b) {
-      if (pa[a] == pb[b]) return false;
+      if (pa[a] == pb[b]) return;
       most = std::max(most, (move_of(sc, pa[a]) - move_of(sc, pb[b])).norm());
     }
   const Box &ba = ta.box[i], &bb = tb.box[j];
   const double allowed = std::max(sc.skin, box_distance(ba.data(), ba.data() + 3, bb.data(), bb.data() + 3) - sc.far);
   if (most <= allowed) {
     slack = std::min(slack, allowed - most);
-    return false;
+    return;
   }
-  const std::uint32_t q[4] = {pa[0], ka > 1 ? pa[1] : pb[0], ka > 1 ? pb[0] : pb[1], pb[ka > 1 ? 1 : 2]};
+  const bool vt = ka == 1;
+  const std::uint32_t lo = vt ? ta.order[i] : std::min(ta.order[i], tb.order[j]);
+  const std::uint32_t hi = vt ? tb.order[j] : std::max(ta.order[i], tb.order[j]);
+  const std::uint32_t* first = vt ? pa : &sc.edges[2 * std::size_t{lo}];
+  const std::uint32_t* second = vt ? pb : &sc.edges[2 * std::size_t{hi}];
+  const std::uint32_t q[4] = {first[0], vt ? second[0] : first[1], vt ? second[1] : second[0], vt ? second[2] : second[1]};
   double coef[4];
-  const double at_xl = pair_gap(sc.xl, q, ka == 1, coef).norm();
-  if (at_xl < sc.far + sc.skin) return false;  // (listed)
-  slack = std::min(slack, at_xl - sc.far - most);
-  return most > at_xl - sc.far;
+  const double at_xl = pair_gap(sc.xl, q, vt, coef).norm();
+  if (at_xl < sc.far + sc.skin) return;  // (listed)
+  if (most <= at_xl - sc.far) {
+    slack = std::min(slack, at_xl - sc.far - most);
+    return;
+  }
+  const std::uint64_t key = std::uint64_t{vt ? 0u : 1u} << 63 | std::uint64_t{lo} << 32 | hi;
+  if (!sc.late.insert(key).second) return;  // (listed late already)
+  (vt ? sc.cand_vt : sc.cand_ee).push_back({{q[0], q[1], q[2], q[3]}, -1.0, 0.0, at_xl});
 }
 
-// Whether the lists still hold every pair of primitives under trees ta and tb (one tree: each
-// pair once) that is within `far` at x: a pair's gap changes by at most the most two of its
-// masses, one of each element, have moved apart since xl.
+// Whether the lists hold every pair of primitives under trees ta and tb (one tree: each pair
+// once) that is within `far` at x, with the pairs found late listed: a pair's gap changes by at
+// most the most two of its masses, one of each element, have moved apart since xl. Not once
+// the checks since the build have tested more node pairs and pairs than the build did (the
+// lists are built again then: the checks cost about as much as the builds at most).
 bool pairs_hold(SelfScratch& sc, const SelfBvh& ta, const std::vector<Box>& ma,
                 const SelfBvh& tb, const std::vector<Box>& mb) {
   double& slack = sc.slack;
@@ -252,6 +273,7 @@ bool pairs_hold(SelfScratch& sc, const SelfBvh& ta, const std::vector<Box>& ma,
   while (!stack.empty()) {
     const auto [a, b] = stack.back();
     stack.pop_back();
+    ++sc.check_work;
     const auto &na = ta.nodes[a], &nb = tb.nodes[b];
     const double allowed = std::max(sc.skin, node_distance(na, nb) - sc.far), moved = apart(ma[a], mb[b]);
     if (moved <= allowed) {
@@ -261,7 +283,8 @@ bool pairs_hold(SelfScratch& sc, const SelfBvh& ta, const std::vector<Box>& ma,
     if (na.count > 0 && nb.count > 0) {
       for (std::uint32_t i = na.first; i < na.first + na.count; ++i)
         for (std::uint32_t j = self && a == b ? i + 1 : nb.first; j < nb.first + nb.count; ++j)
-          if (pair_stale(sc, ta, i, tb, j, slack)) return false;
+          check_pair(sc, ta, i, tb, j, slack);
+      if (sc.check_work > sc.build_work) return false;
     } else {
       ta.descend(tb, {a, b}, na.count > 0, nb.count > 0, stack);
     }
@@ -323,7 +346,9 @@ bool may_be_near(const SelfScratch& sc, std::uint32_t j) {
   for (std::uint32_t q : p.mass) most = std::max(most, sc.moved[q]);
   if (sc.pins_move)
     for (std::uint32_t q : p.mass) pin = std::max(pin, sc.pin_move[q]);
-  return pin > 0.0 || (p.built - most < sc.far && p.built - gap_change(sc, j) < sc.far);
+  const std::size_t nvt = sc.cand_vt.size();
+  const bool late = j < nvt ? j >= sc.built_vt : j - nvt >= sc.built_ee;  // (its clusters may not be linked)
+  return pin > 0.0 || ((late || p.built - most < sc.far) && p.built - gap_change(sc, j) < sc.far);
 }
 
 }  // namespace
