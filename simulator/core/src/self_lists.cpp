@@ -229,12 +229,13 @@ void check_pair(SelfScratch& sc, const SelfBvh& ta, std::uint32_t i, const SelfB
   const auto ka = static_cast<std::size_t>(ta.k), kb = static_cast<std::size_t>(tb.k);
   const std::uint32_t *pa = &ta.corners[ta.order[i] * ka], *pb = &tb.corners[tb.order[j] * kb];
   ++sc.check_work;
-  double most = 0.0;
+  double most2 = 0.0;  // (one square root for the largest: the same as the largest root)
   for (std::size_t a = 0; a < ka; ++a)
     for (std::size_t b = 0; b < kb; ++b) {
       if (pa[a] == pb[b]) return;
-      most = std::max(most, (move_of(sc, pa[a]) - move_of(sc, pb[b])).norm());
+      most2 = std::max(most2, (move_of(sc, pa[a]) - move_of(sc, pb[b])).squaredNorm());
     }
+  const double most = std::sqrt(most2);
   const Box &ba = ta.box[i], &bb = tb.box[j];
   const double allowed = std::max(sc.skin, box_distance(ba.data(), ba.data() + 3, bb.data(), bb.data() + 3) - sc.far);
   if (most <= allowed) {
@@ -332,10 +333,10 @@ void bound_gap_changes(SelfScratch& sc) {
 double gap_change(const SelfScratch& sc, std::uint32_t j) {
   const std::uint32_t* q = candidate(sc, j).mass;
   const int split = j < sc.cand_vt.size() ? 1 : 2;
-  double most = 0.0;
+  double most2 = 0.0;
   for (int a = 0; a < split; ++a)
-    for (int b = split; b < 4; ++b) most = std::max(most, (move_of(sc, q[a]) - move_of(sc, q[b])).norm());
-  return most;
+    for (int b = split; b < 4; ++b) most2 = std::max(most2, (move_of(sc, q[a]) - move_of(sc, q[b])).squaredNorm());
+  return std::sqrt(most2);
 }
 
 // Whether candidate j may now be within `far` (its masses' bounds, then its own), or has a
