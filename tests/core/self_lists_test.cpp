@@ -93,79 +93,77 @@ void expect_lists_hold(const Model& m, const Eigen::Matrix3Xd& x, const detail::
   EXPECT_EQ(unmeasured, 0) << "pairs within far not measured, round " << round;
 }
 
-// A rippled sheet slides across another and settles onto it: pairs come near and go by.
-TEST(SelfLists, HoldEveryNearPairAsOneClothSlidesOverAnother) {
-  auto place = [](double a, double b, int k, double t) -> Eigen::Vector3d {
-    if (k == 0) return {a, 0.0, b};
-    const double ripple = 0.006 * std::sin(9.0 * a + 20.0 * t);
-    return {a + 0.4 * t, 0.05 * (1.0 - t) + 0.008 + ripple, b + 0.1 * t};
-  };
+// What a run of run_two_sheets saw: the lists' builds, the most candidates measured at once,
+// the most pairs listed late at once.
+struct ListsRun {
+  std::uint64_t builds = 0;
+  std::size_t most_active = 0, most_late = 0;
+};
+
+// Two sheets at place(u, v, k, t) for t from 0 to 1 in `rounds` steps: the lists brought up to
+// date and checked against brute force at each.
+template <class Place>
+ListsRun run_two_sheets(Place place, int rounds) {
   const Model m = sheets_model(2, [&](double a, double b, int k) { return place(a, b, k, 0.0); });
   auto sc = detail::make_self_scratch(m);
-  ASSERT_TRUE(sc);
+  EXPECT_TRUE(sc);
+  if (!sc) return {};
   const Workspace ws = make_workspace(m);
-  constexpr int kRounds = 200;
   Eigen::Matrix3Xd x = m.x0;
-  std::size_t most = 0;
-  for (int r = 0; r <= kRounds; ++r) {
-    place_sheets(x, 2, [&](double a, double b, int k) { return place(a, b, k, double(r) / kRounds); });
+  ListsRun run;
+  for (int r = 0; r <= rounds; ++r) {
+    place_sheets(x, 2, [&](double a, double b, int k) { return place(a, b, k, double(r) / rounds); });
     detail::find_candidates(m, x, *sc, ws);
     expect_lists_hold(m, x, *sc, r);
-    most = std::max(most, sc->active.size());
+    run.most_active = std::max(run.most_active, sc->active.size());
+    run.most_late = std::max(run.most_late, sc->cand_vt.size() + sc->cand_ee.size() - sc->built_vt - sc->built_ee);
   }
-  EXPECT_GT(most, 1000u) << "many pairs come within far";
-  EXPECT_LT(sc->builds, kRounds / 4u) << "the lists hold over several rounds";
-  EXPECT_GT(sc->builds, 2u) << "the slide brings new pairs near";
+  run.builds = sc->builds;
+  return run;
+}
+
+// A rippled sheet slides across another and settles onto it: pairs come near and go by.
+TEST(SelfLists, HoldEveryNearPairAsOneClothSlidesOverAnother) {
+  constexpr int kRounds = 200;
+  const ListsRun run = run_two_sheets(
+      [](double a, double b, int k, double t) -> Eigen::Vector3d {
+        if (k == 0) return {a, 0.0, b};
+        const double ripple = 0.006 * std::sin(9.0 * a + 20.0 * t);
+        return {a + 0.4 * t, 0.05 * (1.0 - t) + 0.008 + ripple, b + 0.1 * t};
+      },
+      kRounds);
+  EXPECT_GT(run.most_active, 1000u) << "many pairs come within far";
+  EXPECT_LT(run.builds, kRounds / 4u) << "the lists hold over several rounds";
+  EXPECT_GT(run.builds, 2u) << "the slide brings new pairs near";
 }
 
 // A sheet that stretches and turns in its plane, above another that lies still: the pairs
 // whose masses move apart by more than the lists allow are listed late (those of one layer
 // never come near; those between the layers may), and the lists hold over several rounds.
 TEST(SelfLists, ASheetThatStretchesAndTurnsListsPairsLate) {
-  auto place = [](double a, double b, int k, double t) -> Eigen::Vector3d {
-    if (k == 0) return {a, 0.0, b};
-    const double turn = 0.6 * t, grow = 1.0 + 0.3 * t, c = std::cos(turn), s = std::sin(turn);
-    const double u = grow * (a - 0.5), w = grow * (b - 0.5);
-    return {0.5 + c * u - s * w, 0.02, 0.5 + s * u + c * w};
-  };
-  const Model m = sheets_model(2, [&](double a, double b, int k) { return place(a, b, k, 0.0); });
-  auto sc = detail::make_self_scratch(m);
-  ASSERT_TRUE(sc);
-  const Workspace ws = make_workspace(m);
   constexpr int kRounds = 100;
-  Eigen::Matrix3Xd x = m.x0;
-  std::size_t late = 0;
-  for (int r = 0; r <= kRounds; ++r) {
-    place_sheets(x, 2, [&](double a, double b, int k) { return place(a, b, k, double(r) / kRounds); });
-    detail::find_candidates(m, x, *sc, ws);
-    expect_lists_hold(m, x, *sc, r);
-    late = std::max(late, sc->cand_vt.size() + sc->cand_ee.size() - sc->built_vt - sc->built_ee);
-  }
-  EXPECT_GT(late, 0u) << "pairs are found late";
-  EXPECT_LT(sc->builds, kRounds / 4u) << "the lists hold over several rounds";
+  const ListsRun run = run_two_sheets(
+      [](double a, double b, int k, double t) -> Eigen::Vector3d {
+        if (k == 0) return {a, 0.0, b};
+        const double turn = 0.6 * t, grow = 1.0 + 0.3 * t, c = std::cos(turn), s = std::sin(turn);
+        const double u = grow * (a - 0.5), w = grow * (b - 0.5);
+        return {0.5 + c * u - s * w, 0.02, 0.5 + s * u + c * w};
+      },
+      kRounds);
+  EXPECT_GT(run.most_late, 0u) << "pairs are found late";
+  EXPECT_LT(run.builds, kRounds / 4u) << "the lists hold over several rounds";
 }
 
 // A sheet slides in from beside another, just above its level: the pairs between them come
 // near without the lists being built again, listed late as they come.
 TEST(SelfLists, PairsComingNearAreListedLate) {
-  auto place = [](double a, double b, int k, double t) -> Eigen::Vector3d {
-    return k == 0 ? Eigen::Vector3d(a, 0.0, b) : Eigen::Vector3d(a + 1.3 - 0.8 * t, 0.01, b);
-  };
-  const Model m = sheets_model(2, [&](double a, double b, int k) { return place(a, b, k, 0.0); });
-  auto sc = detail::make_self_scratch(m);
-  ASSERT_TRUE(sc);
-  const Workspace ws = make_workspace(m);
-  constexpr int kRounds = 100;
-  Eigen::Matrix3Xd x = m.x0;
-  std::size_t late = 0;
-  for (int r = 0; r <= kRounds; ++r) {
-    place_sheets(x, 2, [&](double a, double b, int k) { return place(a, b, k, double(r) / kRounds); });
-    detail::find_candidates(m, x, *sc, ws);
-    expect_lists_hold(m, x, *sc, r);
-    late = std::max(late, sc->cand_vt.size() + sc->cand_ee.size() - sc->built_vt - sc->built_ee);
-  }
-  EXPECT_GT(late, 100u) << "pairs are found late";
-  EXPECT_LT(sc->builds, 10u) << "the lists are seldom built again";
+  const ListsRun run = run_two_sheets(
+      [](double a, double b, int k, double t) -> Eigen::Vector3d {
+        return k == 0 ? Eigen::Vector3d(a, 0.0, b) : Eigen::Vector3d(a + 1.3 - 0.8 * t, 0.01, b);
+      },
+      100);
+  EXPECT_GT(run.most_late, 100u) << "pairs are found late";
+  EXPECT_LT(run.builds, 10u) << "the lists are seldom built again";
 }
 
 // A cloth that moves as one, however far, keeps the lists it started with.
