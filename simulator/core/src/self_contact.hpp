@@ -80,7 +80,19 @@ struct SelfScratch {
   Eigen::Matrix3Xd dl;            ///< (3 x n) each mass's move since xl, at the last detection
   std::vector<double> reach, node_reach;  ///< m, (n) each mass's longest edge at xl; (mass tree nodes) their masses' longest
   std::vector<std::array<double, 6>> node_moved, triangle_moved, edge_moved;  ///< (each tree's nodes) the box of their masses' moves since xl
-  std::vector<SelfBvh::NodePair> node_pairs;      ///< the check's stack
+  std::vector<SelfBvh::NodePair> node_pairs;      ///< a descent's stack
+  std::vector<std::uint8_t> node_pair_depth;      ///< the depth of each node pair on it, while the check splits
+  /// A part of the check's descent (self_check.cpp): a node pair, and what its descent found.
+  struct CheckTask {
+    SelfBvh::NodePair start;
+    std::uint64_t before = 0;        ///< the node pairs the split tested before it
+    std::uint64_t work = 0;          ///< the node pairs and pairs its descent tested
+    std::uint64_t at_last_leaf = 0;  ///< of them, those up to its last leaf pair's (0: none)
+    double slack = 0.0;              ///< m, the least slack it found
+    std::vector<std::pair<std::uint64_t, SelfPair>> late;  ///< the pairs it found late (key, pair), in order
+  };
+  std::vector<CheckTask> check_tasks;
+  std::vector<std::vector<SelfBvh::NodePair>> check_stacks;  ///< per thread
   std::vector<std::uint32_t> cluster_node, cluster_of;  ///< (clusters) a node of the mass tree; (n) each mass's cluster
   std::vector<std::uint32_t> cluster_at;          ///< (mass tree nodes) the cluster a node is (kNoCluster: none)
   std::vector<std::uint32_t> near_first, near;    ///< (clusters + 1), each cluster's neighbours at xl

@@ -3,9 +3,9 @@
 // changes by at most the largest relative move of two of its masses since xl, so a pair the
 // lists lack may be within `far` only when two of its masses have moved apart by more than the
 // skin, or by more than their distance at xl allows when farther; the check finds those pairs
-// and lists them. The check and the moves run over trees at xl whose nodes bound their masses' moves.
+// and lists them (self_check.cpp).
 #include "parallel.hpp"
-#include "self_contact.hpp"
+#include "self_moves.hpp"
 
 #include <algorithm>
 #include <array>
@@ -15,36 +15,6 @@
 namespace clothsim::detail {
 
 namespace {
-
-using Box = std::array<double, 6>;  // lo, hi
-
-// The most two masses, one moved within box p and one within box q, have moved apart.
-double apart(const Box& p, const Box& q) {
-  double s = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double d = std::max(p[k + 3] - q[k], q[k + 3] - p[k]);
-    s += d * d;
-  }
-  return std::sqrt(s);
-}
-
-// The distance between boxes [alo, ahi] and [blo, bhi].
-double box_distance(const double* alo, const double* ahi, const double* blo, const double* bhi) {
-  double s = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double d = std::max({0.0, alo[k] - bhi[k], blo[k] - ahi[k]});
-    s += d * d;
-  }
-  return std::sqrt(s);
-}
-
-// The distance between two nodes' boxes at xl.
-double node_distance(const SelfBvh::Node& a, const SelfBvh::Node& b) {
-  return box_distance(a.lo.data(), a.hi.data(), b.lo.data(), b.hi.data());
-}
-
-// Mass i's move since xl (as of the last bound_moves).
-auto move_of(const SelfScratch& sc, std::uint32_t i) { return sc.dl.col(i); }
 
 // Finds the pairs of one kind, a task of `tasks` at a time on the Workspace's threads; the
 // tasks' lists join in task order, so the result is the same for any thread count. Counts the
@@ -189,132 +159,6 @@ void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc
   link_clusters(sc);
 }
 
-// Each node of a tree: the box of its primitives' masses' moves since xl.
-void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& moves) {
-  moves.resize(t.nodes.size());
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  const auto k = static_cast<std::size_t>(t.k);
-  const double* dl = sc.dl.data();
-  for (std::size_t i = t.nodes.size(); i-- > 0;) {
-    const auto& nd = t.nodes[i];
-    Box& b = moves[i];
-    if (nd.count == 0) {
-      const Box &l = moves[i + 1], &r = moves[nd.next];
-      for (int a = 0; a < 3; ++a) b[a] = std::min(l[a], r[a]), b[a + 3] = std::max(l[a + 3], r[a + 3]);
-      continue;
-    }
-    double lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
-    for (std::uint32_t j = nd.first; j < nd.first + nd.count; ++j) {
-      const std::uint32_t* c = &t.corners[t.order[j] * k];
-      for (std::size_t q = 0; q < k; ++q) {
-        const double* d = dl + 3 * std::size_t{c[q]};
-        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], d[a]), hi[a] = std::max(hi[a], d[a]);
-      }
-    }
-    b = {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]};
-  }
-}
-
-void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
-  sc.dl = x - sc.xl;
-  bound_moves(sc, sc.mass_tree, sc.node_moved);
-}
-
-// Checks primitive pair (i of ta, j of tb, places in their trees' order): one that shares no
-// mass, was at least far + skin apart at xl and whose masses have moved apart by more than
-// that distance less `far` may now be within `far`, and is listed (found late) if it is not
-// yet. Any other bounds the slack: how much more its masses may move apart.
-void check_pair(SelfScratch& sc, const SelfBvh& ta, std::uint32_t i, const SelfBvh& tb, std::uint32_t j,
-                double& slack) {
-  const auto ka = static_cast<std::size_t>(ta.k), kb = static_cast<std::size_t>(tb.k);
-  const std::uint32_t *pa = &ta.corners[ta.order[i] * ka], *pb = &tb.corners[tb.order[j] * kb];
-  ++sc.check_work;
-  double most2 = 0.0;  // (one square root for the largest: the same as the largest root)
-  for (std::size_t a = 0; a < ka; ++a)
-    for (std::size_t b = 0; b < kb; ++b) {
-      if (pa[a] == pb[b]) return;
-      most2 = std::max(most2, (move_of(sc, pa[a]) - move_of(sc, pb[b])).squaredNorm());
-    }
-  const double most = std::sqrt(most2);
-  const Box &ba = ta.box[i], &bb = tb.box[j];
-  const double allowed = std::max(sc.skin, box_distance(ba.data(), ba.data() + 3, bb.data(), bb.data() + 3) - sc.far);
-  if (most <= allowed) {
-    slack = std::min(slack, allowed - most);
-    return;
-  }
-  const bool vt = ka == 1;
-  const std::uint32_t lo = vt ? ta.order[i] : std::min(ta.order[i], tb.order[j]);
-  const std::uint32_t hi = vt ? tb.order[j] : std::max(ta.order[i], tb.order[j]);
-  const std::uint32_t* first = vt ? pa : &sc.edges[2 * std::size_t{lo}];
-  const std::uint32_t* second = vt ? pb : &sc.edges[2 * std::size_t{hi}];
-  const std::uint32_t q[4] = {first[0], vt ? second[0] : first[1], vt ? second[1] : second[0], vt ? second[2] : second[1]};
-  double coef[4];
-  const double at_xl = pair_gap(sc.xl, q, vt, coef).norm();
-  if (at_xl < sc.far + sc.skin) return;  // (listed)
-  if (most <= at_xl - sc.far) {
-    slack = std::min(slack, at_xl - sc.far - most);
-    return;
-  }
-  const std::uint64_t key = std::uint64_t{vt ? 0u : 1u} << 63 | std::uint64_t{lo} << 32 | hi;
-  if (!sc.late.insert(key).second) return;  // (listed late already)
-  (vt ? sc.cand_vt : sc.cand_ee).push_back({{q[0], q[1], q[2], q[3]}, -1.0, 0.0, at_xl});
-}
-
-// Whether the lists hold every pair of primitives under trees ta and tb (one tree: each pair
-// once) that is within `far` at x, with the pairs found late listed: a pair's gap changes by at
-// most the most two of its masses, one of each element, have moved apart since xl. Not once
-// the checks since the build have tested more node pairs and pairs than the build did (the
-// lists are built again then: the checks cost about as much as the builds at most).
-bool pairs_hold(SelfScratch& sc, const SelfBvh& ta, const std::vector<Box>& ma,
-                const SelfBvh& tb, const std::vector<Box>& mb) {
-  double& slack = sc.slack;
-  const bool self = &ta == &tb;
-  auto& stack = sc.node_pairs;
-  stack.assign(1, {0, 0});
-  while (!stack.empty()) {
-    const auto [a, b] = stack.back();
-    stack.pop_back();
-    ++sc.check_work;
-    const auto &na = ta.nodes[a], &nb = tb.nodes[b];
-    const double allowed = std::max(sc.skin, node_distance(na, nb) - sc.far), moved = apart(ma[a], mb[b]);
-    if (moved <= allowed) {
-      slack = std::min(slack, allowed - moved);
-      continue;
-    }
-    if (na.count > 0 && nb.count > 0) {
-      for (std::uint32_t i = na.first; i < na.first + na.count; ++i)
-        for (std::uint32_t j = self && a == b ? i + 1 : nb.first; j < nb.first + nb.count; ++j)
-          check_pair(sc, ta, i, tb, j, slack);
-      if (sc.check_work > sc.build_work) return false;
-    } else {
-      ta.descend(tb, {a, b}, na.count > 0, nb.count > 0, stack);
-    }
-  }
-  return true;
-}
-
-// Whether the lists still hold every pair within `far` at x (the masses' moves are bounded on the
-// way). When they do, the masses may move apart by the slack more and they still hold: no check
-// while no two masses have moved apart by the last check's slack since it.
-bool candidates_hold(const Eigen::Matrix3Xd& x, SelfScratch& sc) {
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  Box since = {inf, inf, inf, -inf, -inf, -inf};
-  for (std::uint32_t i : sc.faced_masses) {
-    const Eigen::Vector3d d = x.col(i) - sc.xc.col(i);
-    for (int a = 0; a < 3; ++a) since[a] = std::min(since[a], d[a]), since[a + 3] = std::max(since[a + 3], d[a]);
-  }
-  bound_moves(sc, x);
-  if (apart(since, since) < sc.slack) return true;
-  sc.xc = x;
-  sc.slack = sc.skin - apart(sc.node_moved[0], sc.node_moved[0]);
-  if (sc.slack >= 0.0) return true;  // (no two masses moved apart by more than the skin)
-  sc.slack = std::numeric_limits<double>::infinity();
-  bound_moves(sc, sc.triangle_tree, sc.triangle_moved);
-  bound_moves(sc, sc.edge_tree, sc.edge_moved);
-  return pairs_hold(sc, sc.mass_tree, sc.node_moved, sc.triangle_tree, sc.triangle_moved) &&
-         pairs_hold(sc, sc.edge_tree, sc.edge_moved, sc.edge_tree, sc.edge_moved);
-}
-
 // Each mass's bound on how much the gaps of its candidates have changed since xl: the most
 // the masses of its cluster and of its cluster's neighbours have moved apart.
 void bound_gap_changes(SelfScratch& sc) {
@@ -355,7 +199,7 @@ bool may_be_near(const SelfScratch& sc, std::uint32_t j) {
 }  // namespace
 
 void find_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace& ws) {
-  if (sc.xl.cols() != x.cols() || !candidates_hold(x, sc)) {  // (the check bounds the moves)
+  if (sc.xl.cols() != x.cols() || !candidates_hold(x, sc, ws)) {  // (the check bounds the moves)
     build_candidates(m, x, sc, ws);
     bound_moves(sc, x);
     sc.xc = x;
