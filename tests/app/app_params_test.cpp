@@ -122,4 +122,26 @@ TEST(AppParams, AClothThatStartsThroughItselfIsNamedAtStart) {
   EXPECT_EQ(err.find("self-crossings"), std::string::npos) << err;
 }
 
+// A cloth that starts touching itself without crossing (a corner mass put on a triangle of its
+// middle, its neighbour lifted): no crossing to count, but the touches are named at start-up.
+TEST(AppParams, AClothThatStartsTouchingItselfIsNamedAtStart) {
+  clothsim::testing::HandScene hand(6);
+  for (std::vector<float>* xyz : {&hand.positions, &hand.rest}) {
+    for (std::size_t i = 1; i < xyz->size(); i += 3) (*xyz)[i] = 1.2f;  // level, in the plane y = 1.2
+    const float moved[6] = {-0.06f, 1.2f, -0.11f, -0.48f, 1.5f, -0.8f};
+    std::copy(moved, moved + 6, xyz->begin());
+  }
+  Eigen::Matrix3Xd x(3, static_cast<Eigen::Index>(hand.rest.size() / 3));
+  for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] = hand.rest[static_cast<std::size_t>(i)];
+  const clothsim::CrossingCount c = clothsim::count_self_crossings(x, hand.triangles);
+  ASSERT_EQ(c.crossings, 0u);
+  ASSERT_GT(c.touches, 0u);
+  std::string err;
+  EXPECT_EQ(run(hand.scene, {"--headless", "--quiet", "--steps", "3"}, err), 0) << err;
+  EXPECT_NE(err.find("warning: the cloth starts with " + std::to_string(c.touches) +
+                     " places where an edge touches a triangle"),
+            std::string::npos)
+      << err;
+}
+
 }  // namespace

@@ -180,6 +180,38 @@ TEST(SelfCrossings, SheetPushedThroughAnotherHasSome) {
   EXPECT_EQ(c.triangle_pairs, b.triangle_pairs);
 }
 
+// The closed cases: a segment through a triangle's edge or corner, or ending on it, touches it;
+// one through its inside crosses it; one in its plane does neither; one that misses does neither.
+TEST(SelfCrossings, SegmentsThatMeetATriangleOnlyAtItsBoundaryTouchIt) {
+  using clothsim::Meet;
+  using clothsim::segment_meets_triangle;
+  const Vec a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  EXPECT_EQ(segment_meets_triangle(Vec(0.2, 0.2, -1), Vec(0.2, 0.2, 1), a, b, c), Meet::Crosses);
+  EXPECT_EQ(segment_meets_triangle(Vec(0.5, 0.0, -1), Vec(0.5, 0.0, 1), a, b, c), Meet::Touches);  // through edge ab
+  EXPECT_EQ(segment_meets_triangle(Vec(0.5, 0.5, -1), Vec(0.5, 0.5, 1), a, b, c), Meet::Touches);  // through edge bc
+  EXPECT_EQ(segment_meets_triangle(Vec(0, 0, -1), Vec(0, 0, 1), a, b, c), Meet::Touches);          // through corner a
+  EXPECT_EQ(segment_meets_triangle(Vec(0.2, 0.2, 0), Vec(0.2, 0.2, 1), a, b, c), Meet::Touches);   // ends on it
+  EXPECT_EQ(segment_meets_triangle(Vec(0.1, 0.1, 0), Vec(0.3, 0.2, 0), a, b, c), Meet::None);      // in its plane
+  EXPECT_EQ(segment_meets_triangle(Vec(0.8, 0.8, -1), Vec(0.8, 0.8, 1), a, b, c), Meet::None);     // past bc
+  EXPECT_EQ(segment_meets_triangle(Vec(0.2, 0.2, 0.1), Vec(0.2, 0.2, 1), a, b, c), Meet::None);    // above it
+  EXPECT_EQ(segment_crosses_triangle(Vec(0.5, 0.0, -1), Vec(0.5, 0.0, 1), a, b, c), false);
+}
+
+// Two grids that pass through each other exactly along grid lines of both (a vertical sheet
+// whose row of edges lies in the level one, through its triangles) cross nowhere strictly:
+// every meeting is on an edge. They touch, and the count says so; two sheets apart, a flat
+// grid and sheets that cross in general position do not touch.
+TEST(SelfCrossings, SheetsThroughEachOtherAlongGridLinesTouch) {
+  Mesh m = grid(10, [](double u, double w) { return Vec(u, 0.0, w); });
+  m.add(grid(10, [](double u, double w) { return Vec(u, w - 0.5, 0.513); }));
+  const CrossingCount c = m.count();
+  EXPECT_EQ(c.crossings, 0u);
+  EXPECT_GT(c.touches, 10u);
+  EXPECT_EQ(grid(20, [](double u, double w) { return Vec(u, 0.0, w); }).count().touches, 0u);
+  EXPECT_EQ(two_sheets(false).count().touches, 0u);
+  EXPECT_EQ(two_sheets(true).count().touches, 0u);
+}
+
 // A UV seam duplicates a column of vertices at the same positions: welded, it is the same
 // mesh. A flat grid split so has none; a wavy one with a sheet through it along the seam
 // has as many as unsplit (no seam edge counted twice), and -0.0 welds with 0.0.

@@ -54,15 +54,19 @@ std::string rounding_warning(const Model& model, double h) {
          " s, or another integrator";
 }
 
-// A cloth that starts passing through itself: self-contact keeps what it is given.
+// A cloth that starts passing through itself, or touching itself (an edge on a triangle it is
+// not part of): self-contact keeps what it is given, and holds such places where they are.
 std::string crossing_warning(const Model& model) {
   if (model.options.self_collision != Switch::On) return {};
   const CrossingCount c = count_self_crossings(model, model.x0);
-  if (c.crossings == 0) return {};
-  return "warning: the cloth starts with " + std::to_string(c.crossings) + " self-crossings (" +
-         std::to_string(c.triangle_pairs) +
-         " triangle pairs): self-contact makes no new one but cannot undo these; fix the model in Blender "
-         "(clothsim_crossings counts them in an OBJ)";
+  if (c.crossings == 0 && c.touches == 0) return {};
+  const std::string crossings = std::to_string(c.crossings) + " self-crossings (" +
+                                std::to_string(c.triangle_pairs) + " triangle pairs)";
+  const std::string touches = std::to_string(c.touches) + " places where an edge touches a triangle";
+  const std::string what = c.touches == 0 ? crossings : c.crossings == 0 ? touches : crossings + " and " + touches;
+  return "warning: the cloth starts with " + what +
+         ": self-contact makes no new crossing but cannot undo these, and the layers stay caught where "
+         "they meet; fix the model in Blender (clothsim_crossings counts them in an OBJ)";
 }
 
 // Every start-up warning: a step above the safe one, no cloth, tunnelling, colliders whose

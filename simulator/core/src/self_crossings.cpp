@@ -254,17 +254,17 @@ struct Near {
   double scale;
 };
 
-// Whether segment pq (welded vertices u, v) crosses the triangle (never when they share a
-// vertex). Ends on one side of the plane by far more than rounding (1e-9 relative) are no
-// crossing without the predicates.
-bool crosses(const Welded& w, std::uint32_t u, std::uint32_t v, const Vec& p, const Vec& q, const Near& t) {
+// How segment pq (welded vertices u, v) meets the triangle (never when they share a vertex).
+// Ends on one side of the plane by far more than rounding (1e-9 relative) meet nothing
+// without the predicates.
+Meet meets(const Welded& w, std::uint32_t u, std::uint32_t v, const Vec& p, const Vec& q, const Near& t) {
   const std::array<std::uint32_t, 3>& c = t.corner;
-  if (c[0] == u || c[1] == u || c[2] == u || c[0] == v || c[1] == v || c[2] == v) return false;
+  if (c[0] == u || c[1] == u || c[2] == u || c[0] == v || c[1] == v || c[2] == v) return Meet::None;
   const Vec pa = p - t.a, qa = q - t.a;
   const double dp = t.n.dot(pa), dq = t.n.dot(qa);
   const double tol = 1e-9 * t.scale * (pa.lpNorm<1>() + qa.lpNorm<1>());
-  if ((dp > tol && dq > tol) || (dp < -tol && dq < -tol)) return false;
-  return segment_crosses_triangle(p, q, t.a, w.pos[t.corner[1]], w.pos[t.corner[2]]);
+  if ((dp > tol && dq > tol) || (dp < -tol && dq < -tol)) return Meet::None;
+  return segment_meets_triangle(p, q, t.a, w.pos[t.corner[1]], w.pos[t.corner[2]]);
 }
 
 // The tree against itself: every pair of leaves whose boxes overlap, once, and in it the
@@ -317,7 +317,10 @@ struct SelfQuery {
       const Vec &p = w.pos[u], &q = w.pos[v];
       for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
         const Near& t = tri[i];
-        if (!t.box.overlaps(group_box[g]) || !crosses(w, u, v, p, q, t)) continue;
+        if (!t.box.overlaps(group_box[g])) continue;
+        const Meet m = meets(w, u, v, p, q, t);
+        out.touches += m == Meet::Touches;
+        if (m != Meet::Crosses) continue;
         ++out.crossings;
         for (std::uint32_t k = w.edge_first[e]; k < w.edge_first[e + 1]; ++k) {
           const std::uint32_t own = w.tri_of_edge[k];  // (never t: t shares no vertex with the edge)
@@ -357,14 +360,21 @@ struct SelfQuery {
 
 }  // namespace
 
-bool segment_crosses_triangle(const Vec& p0, const Vec& q0, const Vec& a, const Vec& b, const Vec& c) {
+Meet segment_meets_triangle(const Vec& p0, const Vec& q0, const Vec& a, const Vec& b, const Vec& c) {
   const bool swap = before(q0, p0);  // (pq and qp alike)
   const Vec& p = swap ? q0 : p0;
   const Vec& q = swap ? p0 : q0;
   const double dp = orient(a, b, c, p), dq = orient(a, b, c, q);
-  if (!((dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0))) return false;
+  if ((dp > 0.0 && dq > 0.0) || (dp < 0.0 && dq < 0.0) || (dp == 0.0 && dq == 0.0)) return Meet::None;
   const double s1 = line_side(p, q, a, b), s2 = line_side(p, q, b, c), s3 = line_side(p, q, c, a);
-  return (s1 > 0.0 && s2 > 0.0 && s3 > 0.0) || (s1 < 0.0 && s2 < 0.0 && s3 < 0.0);
+  const bool inside = (s1 >= 0.0 && s2 >= 0.0 && s3 >= 0.0) || (s1 <= 0.0 && s2 <= 0.0 && s3 <= 0.0);
+  if (!inside) return Meet::None;
+  const bool strict = dp != 0.0 && dq != 0.0 && s1 != 0.0 && s2 != 0.0 && s3 != 0.0;
+  return strict ? Meet::Crosses : Meet::Touches;
+}
+
+bool segment_crosses_triangle(const Vec& p, const Vec& q, const Vec& a, const Vec& b, const Vec& c) {
+  return segment_meets_triangle(p, q, a, b, c) == Meet::Crosses;
 }
 
 CrossingCount count_self_crossings(const Eigen::Matrix3Xd& x, std::span<const std::uint32_t> triangles) {

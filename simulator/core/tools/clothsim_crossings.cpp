@@ -154,7 +154,8 @@ int main(int argc, char** argv) {
     any |= c.crossings > 0;
     if (quiet && c.crossings == 0) continue;
     report += path + ": " + std::to_string(c.crossings) + " self-crossings (" + std::to_string(c.triangle_pairs) +
-              " triangle pairs), " + std::to_string(mesh.triangles.size() / 3) + " triangles\n";
+              " triangle pairs), " + std::to_string(mesh.triangles.size() / 3) + " triangles" +
+              (c.touches > 0 ? "; " + std::to_string(c.touches) + " places where an edge touches a triangle" : "") + "\n";
   }
   std::fputs(report.c_str(), stdout);
   return any ? kExitCrossings : kExitClean;

@@ -19,6 +19,7 @@ namespace clothsim {
 struct CrossingCount {
   std::size_t crossings = 0;       ///< (edge, triangle) pairs where the edge passes through the triangle
   std::size_t triangle_pairs = 0;  ///< distinct unordered triangle pairs (T1, T2): an edge of one crosses the other
+  std::size_t touches = 0;         ///< (edge, triangle) pairs that meet without crossing: segment_meets_triangle()
 };
 
 /// The self-crossings of the mesh with positions `x` (3 x n) and triangles `triangles` (3 t
@@ -43,5 +44,14 @@ CrossingCount count_self_crossings(const Model& m, const Eigen::Matrix3Xd& x);
 /// narrow phase of count_self_crossings().
 bool segment_crosses_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
                               const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
+/// How segment pq meets triangle abc (the same predicates): it crosses it, touches it (its
+/// ends not on one side of the plane, and the line through the closed triangle, with a sign
+/// of 0 among them: an end on the triangle, or the segment through its edge or corner), or
+/// neither. A segment in the triangle's plane neither crosses nor touches it, so that a flat
+/// sheet does neither. Two layers that start along each other's grid lines touch.
+enum class Meet { None, Touches, Crosses };
+Meet segment_meets_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
+                            const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
 }  // namespace clothsim
