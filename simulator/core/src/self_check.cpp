@@ -44,6 +44,8 @@ namespace {
 
 /// The check's descent hands the node pairs this deep to tasks.
 constexpr int kCheckSplitDepth = 8;
+/// A task tells the check's shared count of tests what it has added in batches of this many.
+constexpr std::uint64_t kCheckTell = 4096;
 
 // One descent of tree ta against tb (one tree: each pair once), with their nodes' move boxes.
 struct Descent {
@@ -124,9 +126,11 @@ struct Descent {
         for (std::uint32_t j = self && np.a == np.b ? i + 1 : nb.first; j < nb.first + nb.count; ++j)
           check_pair(i, j, t);
       t.at_last_leaf = t.work;
+      if (t.work - told < kCheckTell) continue;  // (the shared count is told in batches: it is contended)
       if (spent.fetch_add(t.work - told, std::memory_order_relaxed) + (t.work - told) > cap) return;
       told = t.work;
     }
+    spent.fetch_add(t.at_last_leaf - told, std::memory_order_relaxed);
   }
 
   // The descent down to kCheckSplitDepth, in the order one descent pops node pairs: the node
