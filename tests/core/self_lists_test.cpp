@@ -22,20 +22,20 @@ using Key = std::array<std::uint32_t, 4>;
 
 constexpr int kSide = 13;
 
-// Sheets of kSide x kSide masses: sheet k's positions are place(u, v, k), u, v in [0, 1].
+// Sheets of side x side masses: sheet k's positions are place(u, v, k), u, v in [0, 1].
 template <class Place>
-Model sheets_model(int sheets, Place place) {
+Model sheets_model(int sheets, Place place, int side = kSide) {
   Options o;
   ModelBuilder b(o, "sheets");
-  auto id = [](int i, int j) { return static_cast<std::uint32_t>(j * kSide + i); };
+  auto id = [side](int i, int j) { return static_cast<std::uint32_t>(j * side + i); };
   for (int k = 0; k < sheets; ++k) {
-    Eigen::Matrix3Xd x(3, kSide * kSide);
+    Eigen::Matrix3Xd x(3, side * side);
     std::vector<std::uint32_t> tri;
     std::vector<SpringSpec> springs;
-    for (int j = 0; j < kSide; ++j)
-      for (int i = 0; i < kSide; ++i) x.col(id(i, j)) = place(double(i) / (kSide - 1), double(j) / (kSide - 1), k);
-    for (int j = 0; j + 1 < kSide; ++j)
-      for (int i = 0; i + 1 < kSide; ++i) {
+    for (int j = 0; j < side; ++j)
+      for (int i = 0; i < side; ++i) x.col(id(i, j)) = place(double(i) / (side - 1), double(j) / (side - 1), k);
+    for (int j = 0; j + 1 < side; ++j)
+      for (int i = 0; i + 1 < side; ++i) {
         tri.insert(tri.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)});
         springs.push_back({id(i, j), id(i + 1, j), 0});
         springs.push_back({id(i, j), id(i, j + 1), 0});
@@ -47,11 +47,11 @@ Model sheets_model(int sheets, Place place) {
 
 // Positions place(u, v, k) of every mass of sheets_model's sheets.
 template <class Place>
-void place_sheets(Eigen::Matrix3Xd& x, int sheets, Place place) {
+void place_sheets(Eigen::Matrix3Xd& x, int sheets, Place place, int side = kSide) {
   for (int k = 0; k < sheets; ++k)
-    for (int j = 0; j < kSide; ++j)
-      for (int i = 0; i < kSide; ++i)
-        x.col((k * kSide + j) * kSide + i) = place(double(i) / (kSide - 1), double(j) / (kSide - 1), k);
+    for (int j = 0; j < side; ++j)
+      for (int i = 0; i < side; ++i)
+        x.col((k * side + j) * side + i) = place(double(i) / (side - 1), double(j) / (side - 1), k);
 }
 
 // A pair's key: VT as (v, triangle's corners sorted); EE as the two edges sorted, each sorted.
@@ -152,6 +152,43 @@ TEST(SelfLists, ASheetThatStretchesAndTurnsListsPairsLate) {
       kRounds, 5);
   EXPECT_GT(run.most_late, 0u) << "pairs are found late";
   EXPECT_LT(run.builds, kRounds / 4u) << "the lists hold over several rounds";
+}
+
+// The lists' check runs in tasks on the threads: on two threads it finds the same pairs late,
+// in the same order, leaves the same slack and builds the lists as often as on one.
+TEST(SelfLists, TwoThreadsListTheSamePairsAsOne) {
+  constexpr int kRounds = 40, kLarge = 33;  // (2 x 33^2 masses: enough for the check to split)
+  const auto place = [](double a, double b, int k, double t) -> Eigen::Vector3d {
+    if (k == 0) return {a, 0.0, b};
+    const double turn = 0.6 * t, grow = 1.0 + 0.3 * t, c = std::cos(turn), s = std::sin(turn);
+    const double u = grow * (a - 0.5), w = grow * (b - 0.5);
+    return {0.5 + c * u - s * w, 0.01, 0.5 + s * u + c * w};
+  };
+  const Model m = sheets_model(2, [&](double a, double b, int k) { return place(a, b, k, 0.0); }, kLarge);
+  auto one = detail::make_self_scratch(m), two = detail::make_self_scratch(m);
+  ASSERT_TRUE(one && two);
+  const Workspace w1 = make_workspace(m);
+  Workspace w2 = make_workspace(m);
+  w2.threads = 2;
+  const auto same = [](const std::vector<detail::SelfPair>& p, const std::vector<detail::SelfPair>& q) {
+    return std::equal(p.begin(), p.end(), q.begin(), q.end(), [](const auto& a, const auto& b) {
+      return std::equal(a.mass, a.mass + 4, b.mass) && a.built == b.built;
+    });
+  };
+  Eigen::Matrix3Xd x = m.x0;
+  std::size_t most_late = 0;
+  for (int r = 0; r <= kRounds; ++r) {
+    place_sheets(x, 2, [&](double a, double b, int k) { return place(a, b, k, double(r) / kRounds); }, kLarge);
+    detail::find_candidates(m, x, *one, w1);
+    detail::find_candidates(m, x, *two, w2);
+    ASSERT_EQ(one->builds, two->builds) << "round " << r;
+    ASSERT_TRUE(same(one->cand_vt, two->cand_vt) && same(one->cand_ee, two->cand_ee)) << "round " << r;
+    ASSERT_EQ(one->active, two->active) << "round " << r;
+    ASSERT_EQ(one->slack, two->slack) << "round " << r;
+    most_late = std::max(most_late, one->cand_vt.size() + one->cand_ee.size() - one->built_vt - one->built_ee);
+  }
+  EXPECT_GT(most_late, 0u) << "the checks find pairs late";
+  EXPECT_LT(one->builds, kRounds / 2u) << "the lists hold over several rounds";
 }
 
 // A sheet slides in from beside another, just above its level: the pairs between them come
