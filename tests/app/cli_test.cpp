@@ -676,19 +676,43 @@ TEST(Cli, SelfCollisionSwitchDecidesWhetherTheHeapPassesThroughItself) {
     EXPECT_EQ(j["options"]["self_collision"], state);
     if (std::string(state) == "off") {
       EXPECT_GT(j["max_self_crossings"].get<long>(), 0) << "the heap never folded through itself";
-      EXPECT_TRUE(j["self_detections"].is_null() && j["self_list_builds"].is_null()) << j.dump();
+      EXPECT_TRUE(j["self_detections"].is_null() && j["self_list_builds"].is_null() && j["self_pin_overruns"].is_null())
+          << j.dump();
     } else {
       EXPECT_EQ(j["max_self_crossings"].get<long>(), 0);
       // the stage ran: detections, and at least one list build among them but fewer than detections
       EXPECT_GT(j["self_detections"].get<long>(), 0);
       EXPECT_GE(j["self_list_builds"].get<long>(), 1);
       EXPECT_LT(j["self_list_builds"].get<long>(), j["self_detections"].get<long>());
+      EXPECT_EQ(j["self_pin_overruns"].get<long>(), 0) << "no pins";
     }
   }
   const Result help = run_program(CLOTHSIM_HEAP_EXE, "--help");
   EXPECT_NE(help.output.find("--self-collision"), std::string::npos) << help.output;
 }
 #endif
+
+#ifdef CLOTHSIM_TWIST_EXE
+// The twist's pins turned 60 times as fast move further in a step than the cloth's gaps beside
+// them: the run says so (a warning, in the report's warnings too) and counts them; at the
+// scene's own rate its first 0.1 s has none.
+TEST(Cli, PinsTurningPastTheClothsGapsAreWarned) {
+  const fs::path d = fresh_dir("pin_overruns");
+  for (const char* spin : {"62.8", "1.0471975511965976"}) {
+    const fs::path report = d / (std::string(spin) + ".json");
+    const Result r = run_program(CLOTHSIM_TWIST_EXE, "--headless --quiet --seconds 0.1 --pin-spin " + std::string(spin) +
+                                                         " --report " + q(report));
+    ASSERT_EQ(r.code, 0) << r.output;
+    const auto j = read_json(report);
+    const bool fast = std::string(spin) == "62.8";
+    const std::string warning = "warning: a turning pin came nearer to the cloth than its move over one step";
+    EXPECT_EQ(r.output.find(warning) != std::string::npos, fast) << r.output;
+    EXPECT_EQ(j["self_pin_overruns"].get<long>() > 0, fast) << j.dump();
+    EXPECT_EQ(j["warnings"].dump().find(warning) != std::string::npos, fast) << j.dump();
+  }
+}
+#endif
+
 
 }  // namespace
 

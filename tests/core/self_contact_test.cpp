@@ -50,8 +50,8 @@ Sheet sheet(int n, Place place) {
 }
 
 // Steps `seconds` (substeps of 0.5 ms), checking after every step that the state is finite
-// and no edge passes through a triangle; the most crossings seen.
-std::size_t run_checked(const Model& m, State& s, double seconds) {
+// and no edge passes through a triangle; the most crossings seen, and the stage's counts.
+std::size_t run_checked(const Model& m, State& s, double seconds, SelfContactCounts* counts = nullptr) {
   Workspace ws = make_workspace(m);
   ws.substeps = 20;
   std::size_t worst = 0;
@@ -64,6 +64,7 @@ std::size_t run_checked(const Model& m, State& s, double seconds) {
     const std::size_t now = count_self_crossings(m, s.x).crossings;
     worst = std::max(worst, now);
   }
+  if (counts) *counts = self_contact_counts(ws).value_or(SelfContactCounts{});
   return worst;
 }
 
@@ -191,16 +192,34 @@ double least_gap_part(const Model& m, const Eigen::Matrix3Xd& x) {
 // and never passes; no gap between free elements closes below its part kSelfLeastGap (0.02)
 // of its target. (Later a turning pin drags its edge through the next row: docs/collision.md,
 // "Limits".)
-TEST(SelfContact, AClothTwistedByItsPinsNeverPassesInItsFirstSixSeconds) {
+Model twisted_square(double spin) {
   Options o;
-  o.pin_spin = std::numbers::pi / 3.0;
+  o.pin_spin = spin;
   std::vector<std::uint32_t> pins;
   const int n = 21;
   for (int j = 0; j < n; ++j) pins.push_back(static_cast<std::uint32_t>(j * n)), pins.push_back(static_cast<std::uint32_t>(j * n + n - 1));
-  const Model m = test::square_cloth_pinned(o, n, pins);
+  return test::square_cloth_pinned(o, n, pins);
+}
+
+TEST(SelfContact, AClothTwistedByItsPinsNeverPassesInItsFirstSixSeconds) {
+  const Model m = twisted_square(std::numbers::pi / 3.0);
   State s = make_state(m);
-  EXPECT_EQ(run_checked(m, s, 6.0), 0u);
+  SelfContactCounts counts;
+  EXPECT_EQ(run_checked(m, s, 6.0, &counts), 0u);
   EXPECT_GE(least_gap_part(m, s.x), 0.0199);  // (rounding)
+  EXPECT_EQ(counts.pin_overruns, 0u) << "no pin came nearer than its step's move";
+}
+
+// Pins that turn 60 times as fast move more in a step than the first row's gaps: the stage
+// counts the pairs it cannot cover, from the first steps on (the run's warning).
+TEST(SelfContact, PinsThatTurnPastTheirGapsAreCounted) {
+  const Model m = twisted_square(20.0 * std::numbers::pi);
+  State s = make_state(m);
+  SelfContactCounts counts;
+  run_checked(m, s, 0.1, &counts);
+  EXPECT_GT(counts.pin_overruns, 0u);
+  EXPECT_GE(counts.first_pin_overrun_t, 0.0);
+  EXPECT_LT(counts.first_pin_overrun_t, 0.1);
 }
 
 // Two cloths that start through each other: the stage keeps them finite and near where they

@@ -141,6 +141,7 @@ json report_json(const RunConfig& c, const Plan& p, const RunResult& r, const Ou
   // the self-contact stage's detections and candidate-list builds over the run (null: off)
   j["self_detections"] = r.self_counts ? json(r.self_counts->detections) : json(nullptr);
   j["self_list_builds"] = r.self_counts ? json(r.self_counts->list_builds) : json(nullptr);
+  j["self_pin_overruns"] = r.self_counts ? json(r.self_counts->pin_overruns) : json(nullptr);
   j["stable_dt_estimate"] = number(omega > 0 ? 2.0 / omega : std::numeric_limits<double>::infinity());
   j["options"] = options_json(c.options);
   j["threads"] = r.auto_threads ? json("auto") : json(r.threads);
@@ -182,6 +183,15 @@ int report_run(const RunConfig& c, Plan& p, RunResult& r) {
     const std::string why = "error: the kinetic energy overflows a double at t = " + fmt(r.state.t) +
                             " s: the masses and speeds are out of range; look at the sizes of the options "
                             "(--mass, --gravity, --k-struct, --k-rep)";
+    std::cerr << "clothsim: " << why << "\n";
+    p.warnings.push_back(why);
+  }
+  if (r.self_counts && r.self_counts->pin_overruns > 0) {
+    const std::string why = "warning: a turning pin came nearer to the cloth than its move over one step (" +
+                            std::to_string(r.self_counts->pin_overruns) + " pairs over the detections, the first at t = " +
+                            fmt(r.self_counts->first_pin_overrun_t) +
+                            " s): self-contact cannot keep those places from crossing; a smaller step (more --substeps) "
+                            "or slower pins keep them apart";
     std::cerr << "clothsim: " << why << "\n";
     p.warnings.push_back(why);
   }

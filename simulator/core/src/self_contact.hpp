@@ -69,6 +69,8 @@ struct SelfScratch {
   SelfBvh mass_tree, triangle_tree, edge_tree;
   std::uint64_t builds = 0;       ///< candidate lists built (the trees are rebuilt every few)
   std::uint64_t detections = 0;   ///< detections run
+  std::uint64_t pin_overruns = 0; ///< pairs found nearer than their moving pin's move over one step (outside the guarantee)
+  double first_pin_overrun = -1.0;  ///< s, the time of the first (-1: none)
   std::vector<SelfPair> cand_vt, cand_ee;  ///< every pair within far + skin at xl, then those found late
   Eigen::Matrix3Xd xl;            ///< (3 x n) the positions the candidates were found at
   std::size_t built_vt = 0, built_ee = 0;  ///< how many of each list the build found; those after were found late

@@ -134,6 +134,9 @@ void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, 
     const SelfPair& p = candidate(sc, j);
     double pinned = 0.0;
     for (std::uint32_t i : p.mass) pinned = std::max(pinned, sc.pin_move[i]);
+    if (p.gap < pinned / kSelfLookAhead) {  // (a pin that moves past its gap in one step: not covered)
+      if (sc.pin_overruns++ == 0) sc.first_pin_overrun = state.t;
+    }
     const double room = p.gap - pinned - (pinned > 0.0 ? 0.0 : kSelfLeastGap * p.target);
     for (std::uint32_t i : p.mass)
       if (!m.pinned[i]) sc.bound[i] = std::min(sc.bound[i], std::max(0.0, room));
@@ -153,7 +156,7 @@ namespace clothsim {
 
 std::optional<SelfContactCounts> self_contact_counts(const Workspace& ws) {
   if (!ws.self) return std::nullopt;
-  return SelfContactCounts{ws.self->detections, ws.self->builds};
+  return SelfContactCounts{ws.self->detections, ws.self->builds, ws.self->pin_overruns, ws.self->first_pin_overrun};
 }
 
 }  // namespace clothsim

@@ -104,6 +104,10 @@ Workspace make_workspace(const Model& model);
 /// builds of its candidate lists (docs/collision.md, "Self-contact"); nullopt with it off.
 struct SelfContactCounts {
   std::uint64_t detections = 0, list_builds = 0;
+  /// Pairs a detection found nearer than their moving pin's move over one step: the guarantee
+  /// assumes none (docs/collision.md, "Self-contact", the guarantee); and the time of the first (-1: none).
+  std::uint64_t pin_overruns = 0;
+  double first_pin_overrun_t = -1.0;
 };
 std::optional<SelfContactCounts> self_contact_counts(const Workspace& ws);
 
