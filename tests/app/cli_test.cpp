@@ -676,7 +676,8 @@ TEST(Cli, SelfCollisionSwitchDecidesWhetherTheHeapPassesThroughItself) {
     EXPECT_EQ(j["options"]["self_collision"], state);
     if (std::string(state) == "off") {
       EXPECT_GT(j["max_self_crossings"].get<long>(), 0) << "the heap never folded through itself";
-      EXPECT_TRUE(j["self_detections"].is_null() && j["self_list_builds"].is_null() && j["self_pin_overruns"].is_null())
+      EXPECT_TRUE(j["self_detections"].is_null() && j["self_list_builds"].is_null() &&
+                  j["self_pin_overruns"].is_null() && j["self_split_steps"].is_null())
           << j.dump();
     } else {
       EXPECT_EQ(j["max_self_crossings"].get<long>(), 0);
@@ -685,6 +686,7 @@ TEST(Cli, SelfCollisionSwitchDecidesWhetherTheHeapPassesThroughItself) {
       EXPECT_GE(j["self_list_builds"].get<long>(), 1);
       EXPECT_LT(j["self_list_builds"].get<long>(), j["self_detections"].get<long>());
       EXPECT_EQ(j["self_pin_overruns"].get<long>(), 0) << "no pins";
+      EXPECT_EQ(j["self_split_steps"].get<long>(), 0) << "no pins";
     }
   }
   const Result help = run_program(CLOTHSIM_HEAP_EXE, "--help");
@@ -693,22 +695,30 @@ TEST(Cli, SelfCollisionSwitchDecidesWhetherTheHeapPassesThroughItself) {
 #endif
 
 #ifdef CLOTHSIM_TWIST_EXE
-// The twist's pins turned 60 times as fast move further in a step than the cloth's gaps beside
-// them: the run says so (a warning, in the report's warnings too) and counts them; at the
-// scene's own rate its first 0.1 s has none.
+// The twist's pins turned 60 times as fast move further in a step than 8 parts of it would
+// cover: the run says so (a warning, in the report's warnings too) and counts them. Turned at
+// 8 rad/s over 0.5 s they would pass some gaps in one step: those steps run in parts, and no
+// pin passes a gap. At the scene's own rate its first 0.1 s needs neither.
 TEST(Cli, PinsTurningPastTheClothsGapsAreWarned) {
   const fs::path d = fresh_dir("pin_overruns");
-  for (const char* spin : {"62.8", "1.0471975511965976"}) {
-    const fs::path report = d / (std::string(spin) + ".json");
-    const Result r = run_program(CLOTHSIM_TWIST_EXE, "--headless --quiet --seconds 0.1 --pin-spin " + std::string(spin) +
-                                                         " --report " + q(report));
+  struct Case {
+    const char *spin, *seconds;
+    bool warned, split;
+  };
+  for (const Case c : {Case{"62.8", "0.1", true, false}, Case{"8", "0.5", false, true},
+                       Case{"1.0471975511965976", "0.1", false, false}}) {
+    const fs::path report = d / (std::string(c.spin) + ".json");
+    const Result r = run_program(CLOTHSIM_TWIST_EXE, "--headless --quiet --seconds " + std::string(c.seconds) +
+                                                         " --pin-spin " + c.spin + " --report " + q(report));
     ASSERT_EQ(r.code, 0) << r.output;
     const auto j = read_json(report);
-    const bool fast = std::string(spin) == "62.8";
     const std::string warning = "warning: a turning pin came nearer to the cloth than its move over one step";
-    EXPECT_EQ(r.output.find(warning) != std::string::npos, fast) << r.output;
-    EXPECT_EQ(j["self_pin_overruns"].get<long>() > 0, fast) << j.dump();
-    EXPECT_EQ(j["warnings"].dump().find(warning) != std::string::npos, fast) << j.dump();
+    EXPECT_EQ(r.output.find(warning) != std::string::npos, c.warned) << c.spin << r.output;
+    EXPECT_EQ(j["self_pin_overruns"].get<long>() > 0, c.warned) << j.dump();
+    EXPECT_EQ(j["warnings"].dump().find(warning) != std::string::npos, c.warned) << j.dump();
+    if (!c.warned) {
+      EXPECT_EQ(j["self_split_steps"].get<long>() > 0, c.split) << c.spin << j.dump();
+    }
   }
 }
 #endif

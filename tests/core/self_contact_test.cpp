@@ -208,10 +208,12 @@ TEST(SelfContact, AClothTwistedByItsPinsNeverPassesInItsFirstSixSeconds) {
   EXPECT_EQ(run_checked(m, s, 6.0, &counts), 0u);
   EXPECT_GE(least_gap_part(m, s.x), 0.0199);  // (rounding)
   EXPECT_EQ(counts.pin_overruns, 0u) << "no pin came nearer than its step's move";
+  EXPECT_EQ(counts.split_steps, 0u) << "no step needed parts";
 }
 
-// Pins that turn 60 times as fast move more in a step than the first row's gaps: the stage
-// counts the pairs it cannot cover, from the first steps on (the run's warning).
+// Pins that turn 60 times as fast move more in a step than the first row's gaps, by more than
+// the step's parts could cover: the stage counts the pairs it cannot cover, from the first
+// steps on (the run's warning).
 TEST(SelfContact, PinsThatTurnPastTheirGapsAreCounted) {
   const Model m = twisted_square(20.0 * std::numbers::pi);
   State s = make_state(m);

@@ -142,6 +142,7 @@ json report_json(const RunConfig& c, const Plan& p, const RunResult& r, const Ou
   j["self_detections"] = r.self_counts ? json(r.self_counts->detections) : json(nullptr);
   j["self_list_builds"] = r.self_counts ? json(r.self_counts->list_builds) : json(nullptr);
   j["self_pin_overruns"] = r.self_counts ? json(r.self_counts->pin_overruns) : json(nullptr);
+  j["self_split_steps"] = r.self_counts ? json(r.self_counts->split_steps) : json(nullptr);
   j["stable_dt_estimate"] = number(omega > 0 ? 2.0 / omega : std::numeric_limits<double>::infinity());
   j["options"] = options_json(c.options);
   j["threads"] = r.auto_threads ? json("auto") : json(r.threads);

@@ -65,10 +65,24 @@ void find_common_move(const State& state, SelfScratch& sc) {
   sc.shift = move / count, sc.drift = velocity / count;
 }
 
-void self_contact_begin(const Model& model, const State& state, Workspace& ws, double h) {
+int self_contact_begin(const Model& model, const State& state, Workspace& ws, double h, bool may_split) {
   SelfScratch& sc = *ws.self;
-  if (sc.detect) detect_self(model, state, h, sc, ws);
+  int parts = 1;
+  if (sc.detect) {
+    detect_self(model, state, h, sc, ws);
+    // A pin that would move past a gap: parts in which each pin moves at most half its least
+    // gap, and a detection for the first; none when more than kSelfMostParts would be needed
+    // (pins that fast get the warning instead of a step many times as costly).
+    if (may_split && sc.pin_room < 1.0 && sc.pin_room >= 2.0 / kSelfMostParts) {
+      parts = static_cast<int>(std::ceil(2.0 / sc.pin_room));
+      detect_self(model, state, h / parts, sc, ws);
+      ++sc.split_steps;
+    }
+    if (sc.overrun_pairs > 0 && sc.pin_overruns == 0) sc.first_pin_overrun = state.t;
+    sc.pin_overruns += sc.overrun_pairs;
+  }
   sc.xs = state.x;
+  return parts;
 }
 
 namespace {

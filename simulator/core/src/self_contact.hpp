@@ -45,6 +45,9 @@ inline constexpr int kSelfLimiterMoves = 3;
 /// A detection runs before a step in which a mass moving at its speed times this would
 /// pass its bound.
 inline constexpr double kSelfLookAhead = 2.0;
+/// A step in which a turning pin would move past a pair's gap runs in up to this many parts,
+/// each with its own detection.
+inline constexpr int kSelfMostParts = 8;
 
 /// A pair of elements near each other: a mass and a triangle, or two edges. Their gap vector
 /// is sum_i coef[i] x[mass[i]] (the coefficients place the closest points); the stage keeps
@@ -71,6 +74,9 @@ struct SelfScratch {
   std::uint64_t detections = 0;   ///< detections run
   std::uint64_t pin_overruns = 0; ///< pairs found nearer than their moving pin's move over one step (outside the guarantee)
   double first_pin_overrun = -1.0;  ///< s, the time of the first (-1: none)
+  std::uint64_t split_steps = 0;  ///< steps run in parts so that no turning pin moved past a gap
+  double pin_room = 0.0;          ///< the last detection's least gap of a pair with a moving pin over that pin's move in one step (inf: none)
+  std::uint64_t overrun_pairs = 0;  ///< the last detection's pairs with a gap less than their moving pin's move in one step
   std::vector<SelfPair> cand_vt, cand_ee;  ///< every pair within far + skin at xl, then those found late
   Eigen::Matrix3Xd xl;            ///< (3 x n) the positions the candidates were found at
   std::size_t built_vt = 0, built_ee = 0;  ///< how many of each list the build found; those after were found late
@@ -196,8 +202,9 @@ void find_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc,
 void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, const Workspace& ws);
 
 /// Before the integrator and the pins' move: detects when the last step asked for it, keeps
-/// the start positions.
-void self_contact_begin(const Model& model, const State& state, Workspace& ws, double h);
+/// the start positions. Returns in how many parts a step of h must run so that no turning pin
+/// moves past a pair's gap in one (1 unless `may_split`; then it has detected for a part).
+int self_contact_begin(const Model& model, const State& state, Workspace& ws, double h, bool may_split);
 /// Strain limiting (limit_strain) with self-contact: its result is reached in up to
 /// kSelfLimiterMoves moves, each within bounds found where it starts.
 void limit_strain_within_bounds(const Model& model, State& state, Workspace& ws, double h);

@@ -130,12 +130,14 @@ void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, 
   }
   find_candidates(m, x, sc, ws);
   measure(m, sc, x, ws);
+  sc.pin_room = std::numeric_limits<double>::infinity(), sc.overrun_pairs = 0;
   for (std::uint32_t j : sc.active) {
     const SelfPair& p = candidate(sc, j);
     double pinned = 0.0;
     for (std::uint32_t i : p.mass) pinned = std::max(pinned, sc.pin_move[i]);
-    if (p.gap < pinned / kSelfLookAhead) {  // (a pin that moves past its gap in one step: not covered)
-      if (sc.pin_overruns++ == 0) sc.first_pin_overrun = state.t;
+    if (pinned > 0.0) {  // (a pin that moves past its gap in one step is outside the guarantee)
+      sc.pin_room = std::min(sc.pin_room, p.gap / (pinned / kSelfLookAhead));
+      sc.overrun_pairs += p.gap < pinned / kSelfLookAhead;
     }
     const double room = p.gap - pinned - (pinned > 0.0 ? 0.0 : kSelfLeastGap * p.target);
     for (std::uint32_t i : p.mass)
@@ -156,7 +158,8 @@ namespace clothsim {
 
 std::optional<SelfContactCounts> self_contact_counts(const Workspace& ws) {
   if (!ws.self) return std::nullopt;
-  return SelfContactCounts{ws.self->detections, ws.self->builds, ws.self->pin_overruns, ws.self->first_pin_overrun};
+  const detail::SelfScratch& sc = *ws.self;
+  return SelfContactCounts{sc.detections, sc.builds, sc.pin_overruns, sc.first_pin_overrun, sc.split_steps};
 }
 
 }  // namespace clothsim

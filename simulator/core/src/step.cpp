@@ -96,6 +96,23 @@ void spin_pin_velocities(const Model& m, State& s, const Workspace& ws) {
   }
 }
 
+// One integrator step of h, with the colliders' friction where the integrator has none of its own.
+void integrate(const Model& model, State& state, Workspace& ws, double h, bool& checked, bool& finite) {
+  using namespace detail;
+  switch (model.options.integrator) {
+    case Integrator::SymplecticEuler: symplectic_euler(model, state, ws, h, checked, finite); break;
+    case Integrator::ExplicitEuler: explicit_euler(model, state, ws, h); break;
+    case Integrator::Verlet: verlet(model, state, ws, h); break;
+    case Integrator::Midpoint: midpoint(model, state, ws, h); break;
+    case Integrator::RK4: rk4(model, state, ws, h); break;
+    case Integrator::ImplicitEuler: implicit_euler(model, state, ws, h); break;
+    case Integrator::FastMassSpring: fast_mass_spring(model, state, ws, h); break;
+    case Integrator::XPBD: xpbd(model, state, ws, h); break;
+    case Integrator::Auto: break;  // (resolved when the Model is built)
+  }
+  if (model.options.integrator != Integrator::XPBD) apply_friction(model, state, ws, h);  // (XPBD's is in its contact)
+}
+
 }  // namespace
 
 StepStatus step(const Model& model, State& state, Workspace& ws) {
@@ -107,34 +124,34 @@ StepStatus step(const Model& model, State& state, Workspace& ws) {
   if (method != Integrator::SymplecticEuler && !ws.integrator_scratch)
     ws.integrator_scratch = make_integrator_scratch(model);
   bool checked = false, finite = true;
-  if (ws.self) self_contact_begin(model, state, ws, h);  // (before the pins turn: they move within the step)
+  // (before the pins turn: they move within the step)
+  const int parts = ws.self ? self_contact_begin(model, state, ws, h, true) : 1;
+  const double hp = h / parts;
   // pins that turn are put where they are at the step's end; others keep their bits
   const auto turning = static_cast<std::size_t>(model.pin_axis.cols());
   const bool spin = turning > 0 && turning == ws.pinned_index.size();
-  if (spin)
-    turn_pins(model, state, ws, state.t + h);
-  else
-    save_pins(state, ws);
   // The slow stages run once per dt: the air's drag over half of dt before its first substep
   // and half after its last (exact for any step; the halves keep the split second order),
   // strain limiting after its last.
   const auto per = static_cast<std::uint64_t>(std::max(ws.substeps, 1));
   const bool first = state.steps % per == 0, last = (state.steps + 1) % per == 0;
   const bool air = model.air > 0.0;
-  if (air && first) air_drag(model, state, ws, 0.5 * model.options.dt);
-  switch (method) {
-    case Integrator::SymplecticEuler: symplectic_euler(model, state, ws, h, checked, finite); break;
-    case Integrator::ExplicitEuler: explicit_euler(model, state, ws, h); break;
-    case Integrator::Verlet: verlet(model, state, ws, h); break;
-    case Integrator::Midpoint: midpoint(model, state, ws, h); break;
-    case Integrator::RK4: rk4(model, state, ws, h); break;
-    case Integrator::ImplicitEuler: implicit_euler(model, state, ws, h); break;
-    case Integrator::FastMassSpring: fast_mass_spring(model, state, ws, h); break;
-    case Integrator::XPBD: xpbd(model, state, ws, h); break;
-    case Integrator::Auto: break;  // (resolved when the Model is built)
+  for (int k = 0; k < parts; ++k) {  // (parts: pins that turn past their gaps, self_contact_begin)
+    if (k > 0) self_contact_begin(model, state, ws, hp, false);
+    if (spin)
+      turn_pins(model, state, ws, state.t + (k + 1) * hp);
+    else
+      save_pins(state, ws);
+    if (air && first && k == 0) air_drag(model, state, ws, 0.5 * model.options.dt);
+    bool part_checked = false, part_finite = true;
+    integrate(model, state, ws, hp, part_checked, part_finite);
+    checked = k == 0 ? part_checked : checked && part_checked, finite = finite && part_finite;
+    if (ws.self) self_contact_end(model, state, ws, hp);
+    if (k + 1 < parts) {
+      restore_pins(state, ws);
+      if (spin) spin_pin_velocities(model, state, ws);
+    }
   }
-  if (method != Integrator::XPBD) apply_friction(model, state, ws, h);  // (XPBD's is in its contact)
-  if (ws.self) self_contact_end(model, state, ws, h);
   if (air && last) air_drag(model, state, ws, 0.5 * model.options.dt);
   if (last && ws.self && model.strain_limit > 0.0) limit_strain_within_bounds(model, state, ws, h);
   else if (last) limit_strain(model, state, ws);

@@ -108,6 +108,9 @@ struct SelfContactCounts {
   /// assumes none (docs/collision.md, "Self-contact", the guarantee); and the time of the first (-1: none).
   std::uint64_t pin_overruns = 0;
   double first_pin_overrun_t = -1.0;
+  /// Steps run in parts (up to 8), each with its own detection, so that no turning pin moved
+  /// past a pair's gap; pins that would need more parts are counted in pin_overruns instead.
+  std::uint64_t split_steps = 0;
 };
 std::optional<SelfContactCounts> self_contact_counts(const Workspace& ws);
 
