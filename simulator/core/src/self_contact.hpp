@@ -9,6 +9,7 @@
 #include <clothsim/step.hpp>
 
 #include <array>
+#include <limits>
 #include <memory>
 #include <unordered_set>
 #include <vector>
@@ -75,7 +76,7 @@ struct SelfScratch {
   std::uint64_t pin_overruns = 0; ///< pairs found nearer than their moving pin's move over one step (outside the guarantee)
   double first_pin_overrun = -1.0;  ///< s, the time of the first (-1: none)
   std::uint64_t split_steps = 0;  ///< steps run in parts so that no turning pin moved past a gap
-  double pin_room = 0.0;          ///< the last detection's least gap of a pair with a moving pin over that pin's move in one step (inf: none)
+  double pin_room = std::numeric_limits<double>::infinity();  ///< the last detection's least gap of a pair with a moving pin over that pin's move in one step (inf: none)
   std::uint64_t overrun_pairs = 0;  ///< the last detection's pairs with a gap less than their moving pin's move in one step
   std::vector<SelfPair> cand_vt, cand_ee;  ///< every pair within far + skin at xl, then those found late
   Eigen::Matrix3Xd xl;            ///< (3 x n) the positions the candidates were found at
