@@ -208,7 +208,7 @@ TEST(SelfContact, AClothTwistedByItsPinsNeverPassesInItsFirstSixSeconds) {
   EXPECT_EQ(run_checked(m, s, 6.0, &counts), 0u);
   EXPECT_GE(least_gap_part(m, s.x), 0.0199);  // (rounding)
   EXPECT_EQ(counts.pin_overruns, 0u) << "no pin came nearer than its step's move";
-  EXPECT_EQ(counts.split_steps, 0u) << "no step needed parts";
+  EXPECT_LT(counts.split_steps, 120u) << "at most 1 % of the 12 000 steps needed parts";
 }
 
 // Pins that turn 60 times as fast move more in a step than the first row's gaps, by more than

@@ -164,15 +164,16 @@ struct Descent {
 // Whether the lists hold every pair of primitives under trees ta and tb that is within `far` at
 // x, with the pairs found late listed: a pair's gap changes by at most the most two of its
 // masses, one of each element, have moved apart since xl. Not once the checks since the build
-// have tested more node pairs and pairs than the build did, counted up to the last leaf pair
-// (the lists are built again then: the checks cost about as much as the builds at most).
+// have tested more node pairs and pairs than the budget, counted up to the last leaf pair: the
+// lists are built again then.
 bool pairs_hold(SelfScratch& sc, const SelfBvh& ta, const std::vector<Box>& ma, const SelfBvh& tb,
                 const std::vector<Box>& mb, const Workspace& ws) {
   const Descent descent{sc, ta, tb, ma, mb};
   double slack = sc.slack;
   const std::uint64_t split_work = descent.split(sc, slack);
   // (a check past twice the budget fails whatever its last leaf pair's count is)
-  const std::uint64_t cap = 2 * sc.build_work - std::min(sc.build_work, sc.check_work);
+  const std::uint64_t budget = sc.build_work / kSelfCheckWeight;
+  const std::uint64_t cap = 2 * budget - std::min(budget, sc.check_work);
   std::atomic<std::uint64_t> spent{split_work};
   const int nt = team(ws, 4 * sc.faced_masses.size());
   sc.check_stacks.resize(static_cast<std::size_t>(std::max(1, nt)));
@@ -188,7 +189,7 @@ bool pairs_hold(SelfScratch& sc, const SelfBvh& ta, const std::vector<Box>& ma, 
     work += t.work;
     slack = std::min(slack, t.slack);
   }
-  if (last_leaf > sc.build_work) return false;
+  if (last_leaf > budget) return false;
   sc.check_work = work + split_work - before, sc.slack = slack;
   for (const auto& t : sc.check_tasks)
     for (const auto& [key, pair] : t.late)

@@ -37,6 +37,10 @@ inline constexpr double kSelfSkinMost = 8.0;
 /// The candidate lists' moves are bounded per cluster of at most this many masses.
 inline constexpr std::uint32_t kSelfCluster = 16;
 inline constexpr std::uint32_t kNoCluster = 0xffffffffu;
+/// The lists' checks since a build may test 1 / kSelfCheckWeight of the node pairs and pairs
+/// the build tested; past that the lists are built again (1, 2, 4 and 8 measured: 4 is the
+/// fastest, or within the noise of it, on skirt_hires, the tablecloth, the heap and two_cloths).
+inline constexpr std::uint64_t kSelfCheckWeight = 4;
 /// The candidate lists' joins split into this many parts for the threads.
 inline constexpr std::size_t kSelfJoinTasks = 256;
 /// Passes of pushes and bounds after each step.
@@ -109,7 +113,7 @@ struct SelfScratch {
   std::vector<double> moved;      ///< (n) m, how much the gap of any of the mass's candidates may have changed since xl
   std::vector<std::uint32_t> active; ///< the candidates this detection measures
   std::vector<std::vector<std::uint32_t>> chosen;  ///< per part of the lists, while choosing `active`
-  std::vector<std::uint64_t> order_keys;  ///< (active) lowest mass << 32 | candidate, while ordering `active`
+  std::vector<std::array<std::uint32_t, 6>> order_keys;  ///< (active) lowest mass, the masses, the candidate, while ordering `active`
   Eigen::Matrix3Xd xd;            ///< (3 x n) the positions at the last detection
   bool common = false;            ///< no mass in a face is pinned: the bounds may follow the cloths' common move
   bool follow = false;            ///< they do until the next detection: `common`, and no mass touched a collider
