@@ -113,7 +113,7 @@ struct SelfScratch {
   std::vector<double> moved;      ///< (n) m, how much the gap of any of the mass's candidates may have changed since xl
   std::vector<std::uint32_t> active; ///< the candidates this detection measures
   std::vector<std::vector<std::uint32_t>> chosen;  ///< per part of the lists, while choosing `active`
-  std::vector<std::array<std::uint32_t, 6>> order_keys;  ///< (active) lowest mass, the masses, the candidate, while ordering `active`
+  std::vector<std::uint32_t> order_at, ordered;  ///< (n + 1) where each mass's pairs start; `active` in order, while ordering it
   Eigen::Matrix3Xd xd;            ///< (3 x n) the positions at the last detection
   bool common = false;            ///< no mass in a face is pinned: the bounds may follow the cloths' common move
   bool follow = false;            ///< they do until the next detection: `common`, and no mass touched a collider

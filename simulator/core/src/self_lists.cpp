@@ -196,6 +196,30 @@ bool may_be_near(const SelfScratch& sc, std::uint32_t j) {
   return pin > 0.0 || ((late || p.built - most < sc.far) && p.built - gap_change(sc, j) < sc.far);
 }
 
+// Orders `active` as the response pushes them: by their lowest mass (pushed in the trees'
+// order, region by region, the twist scene's strain runs away after 4 s: measured), then by
+// their masses, an order that does not depend on when the lists were built. A counting sort by
+// lowest mass, then each mass's few pairs sorted.
+void order_active(SelfScratch& sc) {
+  const auto lowest = [&](std::uint32_t j) {
+    const std::uint32_t* q = candidate(sc, j).mass;
+    return std::min({q[0], q[1], q[2], q[3]});
+  };
+  auto& at = sc.order_at;
+  at.assign(sc.listed.size() + 1, 0);
+  for (std::uint32_t j : sc.active) ++at[lowest(j) + 1];
+  for (std::size_t i = 1; i < at.size(); ++i) at[i] += at[i - 1];
+  sc.ordered.resize(sc.active.size());
+  for (std::uint32_t j : sc.active) sc.ordered[at[lowest(j)]++] = j;  // (then at[i] ends mass i's pairs)
+  const auto by_masses = [&](std::uint32_t a, std::uint32_t b) {
+    const std::uint32_t *p = candidate(sc, a).mass, *q = candidate(sc, b).mass;
+    return std::lexicographical_compare(p, p + 4, q, q + 4);
+  };
+  for (std::size_t i = 0, begin = 0; i + 1 < at.size(); begin = at[i++])
+    if (at[i] - begin > 1) std::sort(sc.ordered.begin() + static_cast<std::ptrdiff_t>(begin), sc.ordered.begin() + static_cast<std::ptrdiff_t>(at[i]), by_masses);
+  sc.active.swap(sc.ordered);
+}
+
 }  // namespace
 
 void find_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace& ws) {
@@ -220,16 +244,7 @@ void find_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc,
   });
   sc.active.clear();
   for (const auto& c : sc.chosen) sc.active.insert(sc.active.end(), c.begin(), c.end());
-  // In the order of their lowest mass, the order the response pushes them in (pushed in the
-  // trees' order, region by region, the twist scene's strain runs away after 4 s: measured),
-  // then of their masses: an order that does not depend on when the lists were built.
-  sc.order_keys.clear();
-  for (std::uint32_t j : sc.active) {
-    const std::uint32_t* q = candidate(sc, j).mass;
-    sc.order_keys.push_back({std::min({q[0], q[1], q[2], q[3]}), q[0], q[1], q[2], q[3], j});
-  }
-  std::sort(sc.order_keys.begin(), sc.order_keys.end());
-  for (std::size_t i = 0; i < sc.active.size(); ++i) sc.active[i] = sc.order_keys[i][5];
+  order_active(sc);
 }
 
 }  // namespace clothsim::detail
