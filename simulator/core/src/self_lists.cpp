@@ -215,8 +215,9 @@ void order_active(SelfScratch& sc) {
     const std::uint32_t *p = candidate(sc, a).mass, *q = candidate(sc, b).mass;
     return std::lexicographical_compare(p, p + 4, q, q + 4);
   };
+  const auto place = [&](std::size_t k) { return sc.ordered.begin() + static_cast<std::ptrdiff_t>(k); };
   for (std::size_t i = 0, begin = 0; i + 1 < at.size(); begin = at[i++])
-    if (at[i] - begin > 1) std::sort(sc.ordered.begin() + static_cast<std::ptrdiff_t>(begin), sc.ordered.begin() + static_cast<std::ptrdiff_t>(at[i]), by_masses);
+    if (at[i] - begin > 1) std::sort(place(begin), place(at[i]), by_masses);
   sc.active.swap(sc.ordered);
 }
 
