@@ -164,8 +164,8 @@ struct Descent {
 // Whether the lists hold every pair of primitives under trees ta and tb that is within `far` at
 // x, with the pairs found late listed: a pair's gap changes by at most the most two of its
 // masses, one of each element, have moved apart since xl. Not once the checks since the build
-// have tested more node pairs and pairs than the budget, counted up to the last leaf pair: the
-// lists are built again then.
+// have tested more node pairs and pairs than the budget (kSelfCheckWeight), counted up to the
+// last leaf pair: the lists are built again then.
 bool pairs_hold(SelfScratch& sc, const SelfBvh& ta, const std::vector<Box>& ma, const SelfBvh& tb,
                 const std::vector<Box>& mb, const Workspace& ws) {
   const Descent descent{sc, ta, tb, ma, mb};

@@ -38,8 +38,7 @@ inline constexpr double kSelfSkinMost = 8.0;
 inline constexpr std::uint32_t kSelfCluster = 16;
 inline constexpr std::uint32_t kNoCluster = 0xffffffffu;
 /// The lists' checks since a build may test 1 / kSelfCheckWeight of the node pairs and pairs
-/// the build tested; past that the lists are built again (1, 2, 4 and 8 measured: 4 is the
-/// fastest, or within the noise of it, on skirt_hires, the tablecloth, the heap and two_cloths).
+/// the build tested; past that the lists are built again (docs/performance.md, "Self-contact").
 inline constexpr std::uint64_t kSelfCheckWeight = 4;
 /// The candidate lists' joins split into this many parts for the threads.
 inline constexpr std::size_t kSelfJoinTasks = 256;

@@ -206,7 +206,7 @@ void order_active(SelfScratch& sc) {
     return std::min({q[0], q[1], q[2], q[3]});
   };
   auto& at = sc.order_at;
-  at.assign(sc.listed.size() + 1, 0);
+  at.assign(sc.in_face.size() + 1, 0);  // (one place per mass, and the end)
   for (std::uint32_t j : sc.active) ++at[lowest(j) + 1];
   for (std::size_t i = 1; i < at.size(); ++i) at[i] += at[i - 1];
   sc.ordered.resize(sc.active.size());
