@@ -9,7 +9,7 @@ namespace clothsim::detail {
 
 namespace {
 
-constexpr std::uint32_t kLeaf = 4;
+constexpr std::uint32_t kLeaf = 4;  // (a leaf's boxes fill one set of lanes)
 
 struct Builder {
   SelfBvh& t;
@@ -61,7 +61,47 @@ void SelfBvh::build(const double* x, std::span<const std::uint32_t> prim_corners
     }
   nodes.reserve(2 * n / kLeaf + 2);
   if (n > 0) b.node(0, static_cast<std::uint32_t>(n), 0);
+  index_leaves();
   refit(x);
+}
+
+void SelfBvh::index_leaves() {
+  const auto kk = static_cast<std::size_t>(k);
+  mass_start.assign(1, 0);
+  leaf_masses.clear();
+  lane_slot.assign(nodes.size(), 0);
+  std::uint32_t leaves = 0;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const Node& nd = nodes[i];
+    if (nd.count > 0) lane_slot[i] = leaves++;
+    const auto begin = static_cast<std::ptrdiff_t>(leaf_masses.size());
+    for (std::uint32_t j = nd.first; j < nd.first + nd.count; ++j)
+      for (std::size_t c = 0; c < kk; ++c) leaf_masses.push_back(corners[order[j] * kk + c]);
+    std::sort(leaf_masses.begin() + begin, leaf_masses.end());
+    leaf_masses.erase(std::unique(leaf_masses.begin() + begin, leaf_masses.end()), leaf_masses.end());
+    mass_start.push_back(static_cast<std::uint32_t>(leaf_masses.size()));
+  }
+  lanes.resize(leaves);
+}
+
+void SelfBvh::fill_lanes(Lanes& l, const Node& leaf) const {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  for (std::uint32_t j = 0; j < 4; ++j)
+    for (std::size_t a = 0; a < 3; ++a) {
+      l.lo[a][j] = j < leaf.count ? box[leaf.first + j][a] : inf;
+      l.hi[a][j] = j < leaf.count ? box[leaf.first + j][a + 3] : -inf;
+    }
+}
+
+std::uint32_t SelfBvh::leaf_meets(const Lanes& a, std::uint32_t count, const Lanes& b, double r) {
+  std::uint32_t hits = 0;
+  for (std::uint32_t i = 0; i < count; ++i)
+    for (std::uint32_t j = 0; j < 4; ++j) {
+      bool meet = true;
+      for (std::size_t k = 0; k < 3; ++k) meet = meet && a.lo[k][i] - r <= b.hi[k][j] && a.hi[k][i] + r >= b.lo[k][j];
+      hits |= std::uint32_t{meet} << (4 * i + j);
+    }
+  return hits;
 }
 
 void SelfBvh::refit(const double* x) {
@@ -81,6 +121,7 @@ void SelfBvh::refit(const double* x) {
         }
         for (std::size_t a = 0; a < 3; ++a) nd.lo[a] = std::min(nd.lo[a], b[a]), nd.hi[a] = std::max(nd.hi[a], b[a + 3]);
       }
+      fill_lanes(lanes[lane_slot[i]], nd);
     } else {
       const Node& l = nodes[i + 1];
       const Node& r = nodes[nd.next];

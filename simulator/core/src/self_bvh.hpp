@@ -3,6 +3,8 @@
 // (the topology never changes), built again every few; and its dual-tree descents.
 #pragma once
 
+#include <clothsim/cpu.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -23,11 +25,26 @@ struct SelfBvh {
   std::vector<std::array<double, 6>> box;  ///< each primitive's box (lo, hi), in `order`
   std::span<const std::uint32_t> corners;  ///< k mass indices per primitive
   int k = 3;
+  /// Each leaf's masses once each: leaf_masses[mass_start[i] .. mass_start[i + 1]) for node i
+  /// (empty for an inner node). A leaf's primitives share masses, so a bound over its masses
+  /// reads about half as many as one over its primitives' corners.
+  std::vector<std::uint32_t> mass_start, leaf_masses;
+  /// A leaf's primitive boxes as lanes, axis by axis (empty lanes never meet a box): a leaf
+  /// pair's tests run four at a time.
+  struct Lanes {
+    alignas(32) double lo[3][4], hi[3][4];
+  };
+  std::vector<Lanes> lanes;               ///< per leaf, at lane_slot[node]
+  std::vector<std::uint32_t> lane_slot;  ///< (nodes) each leaf's place in `lanes`
 
   /// Builds the tree over primitives of k corners (3: triangles, 2: edges) at positions x (3 n).
   void build(const double* x, std::span<const std::uint32_t> prim_corners, int corners_per_prim);
+  /// Lists each leaf's masses (mass_start, leaf_masses) and places its lanes (lane_slot).
+  void index_leaves();
   /// Refits every box to positions x.
   void refit(const double* x);
+  /// Copies a leaf's primitive boxes into its lanes.
+  void fill_lanes(Lanes& l, const Node& leaf) const;
 
   /// Two subtrees to join: a node of this tree and one of the other (or of this tree again).
   struct NodePair {
@@ -59,6 +76,11 @@ struct SelfBvh {
   template <class F>
   std::uint64_t join(const SelfBvh& other, NodePair np, double r, F&& f) const {
     const bool self = &other == this;
+#ifdef CLOTHSIM_AVX2
+    const auto meets = use_avx2() ? leaf_meets_avx2 : leaf_meets;
+#else
+    const auto meets = leaf_meets;
+#endif
     std::uint64_t tested = 0;
     std::vector<NodePair> stack{np};
     while (!stack.empty()) {
@@ -68,11 +90,13 @@ struct SelfBvh {
       const Node &na = nodes[a], &nb = other.nodes[b];
       if (!(self && a == b) && !near(na.lo, na.hi, nb.lo, nb.hi, r)) continue;
       if (na.count > 0 && nb.count > 0) {
-        for (std::uint32_t i = na.first; i < na.first + na.count; ++i) {
-          const std::uint32_t from = self && a == b ? i + 1 : nb.first;
-          tested += nb.first + nb.count - from;
-          for (std::uint32_t j = from; j < nb.first + nb.count; ++j)
-            if (near(box[i], other.box[j], r)) f(order[i], other.order[j]);
+        const bool one = self && a == b;
+        tested += one ? na.count * (na.count - 1) / 2 : na.count * nb.count;
+        std::uint32_t hits = meets(lanes[lane_slot[a]], na.count, other.lanes[other.lane_slot[b]], r);
+        if (one) hits &= kAbove;
+        for (; hits != 0; hits &= hits - 1) {  // (in the order of i, then j)
+          const auto bit = static_cast<std::uint32_t>(__builtin_ctz(hits));
+          f(order[na.first + bit / 4], other.order[nb.first + bit % 4]);
         }
       } else {
         descend(other, {a, b}, na.count > 0, nb.count > 0, stack);
@@ -91,6 +115,14 @@ struct SelfBvh {
     return p[0] - r <= q[3] && p[3] + r >= q[0] && p[1] - r <= q[4] && p[4] + r >= q[1] && p[2] - r <= q[5] &&
            p[5] + r >= q[2];
   }
+  /// Which primitives of two leaves' lanes meet, the first's boxes grown by r: bit 4 i + j
+  /// for the first's i-th (i < count) and the second's j-th; near()'s tests.
+  static std::uint32_t leaf_meets(const Lanes& a, std::uint32_t count, const Lanes& b, double r);
+#ifdef CLOTHSIM_AVX2
+  static std::uint32_t leaf_meets_avx2(const Lanes& a, std::uint32_t count, const Lanes& b, double r);
+#endif
+  /// The bits 4 i + j with j > i: a leaf's pairs with itself, each once.
+  static constexpr std::uint32_t kAbove = 0x8ce;
   static double extent(const Node& n) { return std::max({n.hi[0] - n.lo[0], n.hi[1] - n.lo[1], n.hi[2] - n.lo[2]}); }
 };
 

@@ -13,7 +13,6 @@ namespace clothsim::detail {
 void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& moves) {
   moves.resize(t.nodes.size());
   constexpr double inf = std::numeric_limits<double>::infinity();
-  const auto k = static_cast<std::size_t>(t.k);
   const double* dl = sc.dl.data();
   for (std::size_t i = t.nodes.size(); i-- > 0;) {
     const auto& nd = t.nodes[i];
@@ -24,12 +23,9 @@ void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& move
       continue;
     }
     double lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
-    for (std::uint32_t j = nd.first; j < nd.first + nd.count; ++j) {
-      const std::uint32_t* c = &t.corners[t.order[j] * k];
-      for (std::size_t q = 0; q < k; ++q) {
-        const double* d = dl + 3 * std::size_t{c[q]};
-        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], d[a]), hi[a] = std::max(hi[a], d[a]);
-      }
+    for (std::uint32_t j = t.mass_start[i]; j < t.mass_start[i + 1]; ++j) {
+      const double* d = dl + 3 * std::size_t{t.leaf_masses[j]};
+      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], d[a]), hi[a] = std::max(hi[a], d[a]);
     }
     b = {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]};
   }
@@ -215,9 +211,9 @@ bool candidates_hold(const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace
   if (sc.slack >= 0.0) return true;  // (no two masses moved apart by more than the skin)
   sc.slack = inf;
   bound_moves(sc, sc.triangle_tree, sc.triangle_moved);
+  if (!pairs_hold(sc, sc.mass_tree, sc.node_moved, sc.triangle_tree, sc.triangle_moved, ws)) return false;
   bound_moves(sc, sc.edge_tree, sc.edge_moved);
-  return pairs_hold(sc, sc.mass_tree, sc.node_moved, sc.triangle_tree, sc.triangle_moved, ws) &&
-         pairs_hold(sc, sc.edge_tree, sc.edge_moved, sc.edge_tree, sc.edge_moved, ws);
+  return pairs_hold(sc, sc.edge_tree, sc.edge_moved, sc.edge_tree, sc.edge_moved, ws);
 }
 
 }  // namespace clothsim::detail
