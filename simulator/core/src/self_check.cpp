@@ -36,6 +36,23 @@ void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
   bound_moves(sc, sc.mass_tree, sc.node_moved);
 }
 
+std::uint32_t leaf_clears(const SelfBvh::Lanes& a, std::uint32_t count, const SelfBvh::Lanes& b, const LeafCheck& c,
+                          double& slack) {
+  std::uint32_t left = 0;
+  for (std::uint32_t i = 0; i < count; ++i)
+    for (std::uint32_t j = c.one ? i + 1 : 0; j < c.other; ++j) {
+      double s = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const double d = std::max(std::max(a.lo[k][i] - b.hi[k][j], b.lo[k][j] - a.hi[k][i]), 0.0);
+        s += d * d;
+      }
+      const double room = std::max(std::sqrt(s) - c.far, c.skin);
+      if (c.moved <= room) slack = std::min(slack, room - c.moved);
+      else left |= std::uint32_t{1} << (4 * i + j);
+    }
+  return left;
+}
+
 namespace {
 
 /// The check's descent hands the node pairs this deep to tasks.
@@ -48,6 +65,11 @@ struct Descent {
   const SelfScratch& sc;
   const SelfBvh &ta, &tb;
   const std::vector<Box>&ma, &mb;
+#ifdef CLOTHSIM_AVX2
+  decltype(&leaf_clears) clears_leaves = use_avx2() ? leaf_clears_avx2 : leaf_clears;
+#else
+  decltype(&leaf_clears) clears_leaves = leaf_clears;
+#endif
 
   // Whether node pair np's masses cannot have come within `far` unlisted; the slack takes its room.
   bool clears(SelfBvh::NodePair np, double& slack) const {
@@ -60,14 +82,14 @@ struct Descent {
 
   bool leaves(SelfBvh::NodePair np) const { return ta.nodes[np.a].count > 0 && tb.nodes[np.b].count > 0; }
 
-  // Checks primitive pair (i of ta, j of tb, places in their trees' order): one that shares no
+  // Checks primitive pair (i of ta, j of tb, places in their trees' order) that its leaves'
+  // moves do not clear (leaf_clears): one that shares no
   // mass, was at least far + skin apart at xl and whose masses have moved apart by more than
   // that distance less `far` may now be within `far`, and is found late if it is not listed
   // yet. Any other bounds the slack: how much more its masses may move apart.
   void check_pair(std::uint32_t i, std::uint32_t j, SelfScratch::CheckTask& out) const {
     const auto ka = static_cast<std::size_t>(ta.k), kb = static_cast<std::size_t>(tb.k);
     const std::uint32_t *pa = &ta.corners[ta.order[i] * ka], *pb = &tb.corners[tb.order[j] * kb];
-    ++out.work;
     double most2 = 0.0;  // (one square root for the largest: the same as the largest root)
     for (std::size_t a = 0; a < ka; ++a)
       for (std::size_t b = 0; b < kb; ++b) {
@@ -118,9 +140,13 @@ struct Descent {
         continue;
       }
       const auto &na = ta.nodes[np.a], &nb = tb.nodes[np.b];
-      for (std::uint32_t i = na.first; i < na.first + na.count; ++i)
-        for (std::uint32_t j = self && np.a == np.b ? i + 1 : nb.first; j < nb.first + nb.count; ++j)
-          check_pair(i, j, t);
+      const LeafCheck c{apart(ma[np.a], mb[np.b]), sc.skin, sc.far, nb.count, self && np.a == np.b};
+      t.work += c.one ? na.count * (na.count - 1) / 2 : na.count * nb.count;
+      for (std::uint32_t left = clears_leaves(ta.lanes[ta.lane_slot[np.a]], na.count, tb.lanes[tb.lane_slot[np.b]], c, t.slack);
+           left != 0; left &= left - 1) {
+        const auto bit = static_cast<std::uint32_t>(__builtin_ctz(left));
+        check_pair(na.first + bit / 4, nb.first + bit % 4, t);
+      }
       t.at_last_leaf = t.work;
       if (t.work - told < kCheckTell) continue;  // (the shared count is told in batches: it is contended)
       if (spent.fetch_add(t.work - told, std::memory_order_relaxed) + (t.work - told) > cap) return;

@@ -45,6 +45,24 @@ void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& move
 /// The masses' moves since xl at x (sc.dl) and the boxes of the masses' tree.
 void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x);
 
+/// A leaf pair of the check at once: its primitives' pairs whose masses cannot have come within
+/// `far` unlisted, by the leaves' largest relative move `moved` (the most two of their masses,
+/// one of each leaf, have moved apart) against the pair's room at xl (its boxes' distance less
+/// `far`, at least the skin). Returns the bits 4 i + j of the pairs it does not clear (i <
+/// count, j < other; with `one`, a leaf against itself, only j > i), and lowers `slack` to the
+/// least room left by those it clears. A NaN box clears nothing.
+struct LeafCheck {
+  double moved, skin, far;
+  std::uint32_t other;  ///< the second leaf's primitives
+  bool one;
+};
+std::uint32_t leaf_clears(const SelfBvh::Lanes& a, std::uint32_t count, const SelfBvh::Lanes& b, const LeafCheck& c,
+                          double& slack);
+#ifdef CLOTHSIM_AVX2
+std::uint32_t leaf_clears_avx2(const SelfBvh::Lanes& a, std::uint32_t count, const SelfBvh::Lanes& b,
+                               const LeafCheck& c, double& slack);
+#endif
+
 /// Whether the lists still hold every pair within `far` at x, with the pairs found late listed
 /// (self_check.cpp); the masses' moves are bounded on the way.
 bool candidates_hold(const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace& ws);
