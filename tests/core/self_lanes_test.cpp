@@ -1,8 +1,11 @@
-// The self-contact stage's leaf pair tests in lanes, plain and AVX2: the joins' answer as
-// near() does for each pair of boxes, and the lists' check clears the pairs and leaves the slack
-// that a test of one pair at a time gives; touching, apart, overlapping, empty lanes and NaN
-// alike. White-box: the stage's private headers.
+// The self-contact stage's tests in lanes, plain and AVX2: the joins' leaf pairs answer as
+// near() does for each pair of boxes; the lists' check clears the pairs and leaves the slack
+// that a test of one pair at a time gives (touching, apart, overlapping, empty lanes and NaN
+// alike); an edge pair ruled out in lanes is never nearer than pair_gap() says. White-box: the
+// stage's private headers.
 #include "self_moves.hpp"
+
+#include <Eigen/Core>
 
 #include <gtest/gtest.h>
 
@@ -140,6 +143,51 @@ TEST(SelfLanes, LeafLanesClearAsOnePairAtATime) {
   EXPECT_GT(cleared, 1000);  // (both answers are common)
   EXPECT_GT(left, 1000);
 }
+
+#ifdef CLOTHSIM_AVX2
+// Random edge pairs around a distance of r, many of them parallel, crossing, sharing a line or
+// of zero length: none ruled out is nearer than r by pair_gap(), and nearly every pair in
+// general position that is farther than 1.01 r is ruled out.
+TEST(SelfLanes, EdgePairsRuledOutInLanesAreFartherThanTheirReach) {
+  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "no AVX2";
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> at(-0.02, 0.02), unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> kind(0, 5);
+  const double r = 0.009;
+  Eigen::Matrix3Xd x(3, 16);
+  int far = 0, ruled_out = 0;
+  std::array<bool, 4> general{};
+  for (int round = 0; round < 50000; ++round) {
+    std::array<std::array<std::uint32_t, 4>, 4> pairs;
+    for (std::uint32_t k = 0; k < 4; ++k) {
+      pairs[k] = {4 * k, 4 * k + 1, 4 * k + 2, 4 * k + 3};
+      const Eigen::Vector3d p0(at(rng), at(rng), at(rng)), d(unit(rng), unit(rng), unit(rng));
+      Eigen::Vector3d p1 = p0 + 0.012 * d.normalized(), p2(at(rng), at(rng), at(rng)), p3(at(rng), at(rng), at(rng));
+      const int shape = kind(rng);
+      general[k] = shape > 3;
+      switch (shape) {
+        case 0: p3 = p2 + (p1 - p0) * (0.5 + std::abs(unit(rng))); break;  // (parallel)
+        case 1: p2 = p0 + 0.3 * (p1 - p0), p3 = p0 + 1.7 * (p1 - p0); break;  // (on one line)
+        case 2: p1 = p0; break;  // (zero length)
+        case 3: p3 = p2 + (p1 - p0) + Eigen::Vector3d(1e-9, 0, 0); break;  // (nearly parallel)
+        default: break;
+      }
+      x.col(4 * k) = p0, x.col(4 * k + 1) = p1, x.col(4 * k + 2) = p2, x.col(4 * k + 3) = p3;
+    }
+    const std::uint32_t apart = edges_apart_avx2(x.data(), pairs.data(), r);
+    for (std::uint32_t k = 0; k < 4; ++k) {
+      double coef[4];
+      const double gap = pair_gap(x, pairs[k].data(), false, coef).norm();
+      if (apart >> k & 1u) {
+        ASSERT_GE(gap, r) << "round " << round << " pair " << k;
+      }
+      if (general[k] && gap > 1.01 * r) ++far, ruled_out += apart >> k & 1u;
+    }
+  }
+  EXPECT_GT(far, 10000);
+  EXPECT_GE(ruled_out, far * 99 / 100);
+}
+#endif
 
 }  // namespace
 }  // namespace clothsim::detail

@@ -25,7 +25,7 @@ void find_pairs(const std::vector<SelfBvh::NodePair>& tasks, std::size_t work, S
   sc.found.resize(std::max(sc.found.size(), tasks.size()));
   parallel_for_dynamic(team(ws, work), static_cast<std::int64_t>(tasks.size()), [&](std::int64_t i) {
     auto& found = sc.found[static_cast<std::size_t>(i)];
-    found.pairs.clear(), found.tested = 0;
+    found.pairs.clear(), found.edge_pairs.clear(), found.tested = 0;
     each(tasks[static_cast<std::size_t>(i)], found);
   });
   out.clear();
@@ -42,6 +42,23 @@ void keep(const Eigen::Matrix3Xd& x, double r, std::array<std::uint32_t, 4> mass
   double coef[4];
   p.built = pair_gap(x, p.mass, vertex_triangle, coef).norm();
   if (p.built < r) out.pairs.push_back(p);
+}
+
+// keep() for the edge pairs found (in their order), four at a time ruling out those surely r
+// or more apart in AVX2 lanes.
+void keep_edges(const Eigen::Matrix3Xd& x, double r, SelfScratch::Found& out) {
+  const auto& e = out.edge_pairs;
+  std::size_t k = 0;
+#ifdef CLOTHSIM_AVX2
+  if (use_avx2())
+    for (; k + 4 <= e.size(); k += 4) {
+      const std::uint32_t apart = edges_apart_avx2(x.data(), &e[k], r);
+      for (std::size_t j = 0; j < 4; ++j)
+        if (!(apart >> j & 1u)) keep(x, r, e[k + j], false, out);
+    }
+#endif
+  for (; k < e.size(); ++k) keep(x, r, e[k], false, out);
+  out.edge_pairs.clear();
 }
 
 // The masses' clusters: the highest nodes of the masses' tree with at most kSelfCluster masses
@@ -148,8 +165,9 @@ void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc
                  const std::uint32_t* ab = &sc.edges[2 * std::size_t{std::min(e, f)}];
                  const std::uint32_t* cd = &sc.edges[2 * std::size_t{std::max(e, f)}];
                  if (cd[0] != ab[0] && cd[0] != ab[1] && cd[1] != ab[0] && cd[1] != ab[1])
-                   keep(x, r, {ab[0], ab[1], cd[0], cd[1]}, false, out);
+                   out.edge_pairs.push_back({ab[0], ab[1], cd[0], cd[1]});
                });
+               keep_edges(x, r, out);
              });
   sc.built_vt = sc.cand_vt.size(), sc.built_ee = sc.cand_ee.size();
   sc.late.clear();
