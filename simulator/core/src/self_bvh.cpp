@@ -9,17 +9,20 @@ namespace clothsim::detail {
 
 namespace {
 
-constexpr std::uint32_t kLeaf = 4;  // (a leaf's boxes fill one set of lanes)
+constexpr std::uint32_t kLeaf = 4;
+static_assert(kLeaf <= 4, "a leaf's boxes fill one set of four lanes (SelfBvh::Lanes)");
 
 struct Builder {
   SelfBvh& t;
   const double* x;
   std::vector<std::array<double, 3>> centre;
 
-  std::uint32_t node(std::uint32_t first, std::uint32_t count, int depth) {
+  // (each split halves the count: every leaf holds at most kLeaf primitives, and the depth is
+  // at most 32)
+  std::uint32_t node(std::uint32_t first, std::uint32_t count) {
     const auto self = static_cast<std::uint32_t>(t.nodes.size());
     t.nodes.push_back({});
-    if (count <= kLeaf || depth >= 60) {
+    if (count <= kLeaf) {
       t.nodes[self].first = first, t.nodes[self].count = count;
       return self;
     }
@@ -36,8 +39,8 @@ struct Builder {
     std::nth_element(b, b + half, b + count, [&](std::uint32_t p, std::uint32_t q) {
       return centre[p][axis] < centre[q][axis] || (centre[p][axis] == centre[q][axis] && p < q);
     });
-    node(first, half, depth + 1);
-    const std::uint32_t right = node(first + half, count - half, depth + 1);
+    node(first, half);
+    const std::uint32_t right = node(first + half, count - half);
     t.nodes[self].next = right;
     return self;
   }
@@ -60,7 +63,7 @@ void SelfBvh::build(const double* x, std::span<const std::uint32_t> prim_corners
       b.centre[p][static_cast<std::size_t>(a)] = s / k;
     }
   nodes.reserve(2 * n / kLeaf + 2);
-  if (n > 0) b.node(0, static_cast<std::uint32_t>(n), 0);
+  if (n > 0) b.node(0, static_cast<std::uint32_t>(n));
   index_leaves();
   refit(x);
 }

@@ -82,11 +82,11 @@ struct Descent {
 
   bool leaves(SelfBvh::NodePair np) const { return ta.nodes[np.a].count > 0 && tb.nodes[np.b].count > 0; }
 
-  // Checks primitive pair (i of ta, j of tb, places in their trees' order) that its leaves'
-  // moves do not clear (leaf_clears): one that shares no
-  // mass, was at least far + skin apart at xl and whose masses have moved apart by more than
-  // that distance less `far` may now be within `far`, and is found late if it is not listed
-  // yet. Any other bounds the slack: how much more its masses may move apart.
+  // Checks primitive pair (i of ta, j of tb, places in their trees' order), one its leaves'
+  // move does not clear (leaf_clears): one that shares no mass, was at least far + skin apart
+  // at xl and whose masses have moved apart by more than that distance less `far` may now be
+  // within `far`, and is found late if it is not listed yet. Any other bounds the slack: how
+  // much more its masses may move apart.
   void check_pair(std::uint32_t i, std::uint32_t j, SelfScratch::CheckTask& out) const {
     const auto ka = static_cast<std::size_t>(ta.k), kb = static_cast<std::size_t>(tb.k);
     const std::uint32_t *pa = &ta.corners[ta.order[i] * ka], *pb = &tb.corners[tb.order[j] * kb];
