@@ -58,7 +58,6 @@ void keep_edges(const Eigen::Matrix3Xd& x, double r, SelfScratch::Found& out) {
     }
 #endif
   for (; k < e.size(); ++k) keep(x, r, e[k], false, out);
-  out.edge_pairs.clear();
 }
 
 // The masses' clusters: the highest nodes of the masses' tree with at most kSelfCluster masses
