@@ -4,6 +4,7 @@
 #include <clothsim/cpu.hpp>
 #include <clothsim/step.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
@@ -63,6 +64,37 @@ bool parallel_any(int nt, std::int64_t n, Body&& body) {
 #pragma omp parallel for schedule(static) num_threads(nt) reduction(|| : any)
   for (std::int64_t i = 0; i < n; ++i) any = body(i) || any;
   return any;
+}
+
+/// Whether pred(i) holds for any i in [0, n), pred without side effects: the threads stop
+/// once one has found it (each looks at the others' answer every kFindChunk items).
+template <class Pred>
+bool parallel_find(int nt, std::int64_t n, Pred&& pred) {
+  constexpr std::int64_t kFindChunk = 1024;
+  if (nt <= 1) {
+    for (std::int64_t i = 0; i < n; ++i)
+      if (pred(i)) return true;
+    return false;
+  }
+  bool found = false;
+#pragma omp parallel num_threads(nt) shared(found)
+  {
+    const auto t = static_cast<std::int64_t>(thread_num()), parts = static_cast<std::int64_t>(team_size());
+    const std::int64_t end = n * (t + 1) / parts;
+    for (std::int64_t i = n * t / parts; i < end; i += kFindChunk) {
+      bool seen = false;
+#pragma omp atomic read
+      seen = found;
+      if (seen) break;
+      for (std::int64_t j = i; j < std::min(end, i + kFindChunk); ++j)
+        if (pred(j)) {
+#pragma omp atomic write
+          found = true;
+          break;
+        }
+    }
+  }
+  return found;
 }
 
 /// Runs body(t, parts) on each of nt threads; on one thread, body(0, 1) without a region.

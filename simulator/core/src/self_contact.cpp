@@ -15,6 +15,13 @@ namespace clothsim::detail {
 
 namespace {
 
+// Mass i's position before the stage's first move of it in this step (xpre), kept once.
+void keep_start(SelfScratch& sc, const Eigen::Matrix3Xd& x, std::uint32_t i) {
+  if (sc.kept[i] == sc.ends) return;
+  sc.kept[i] = sc.ends, sc.xpre.col(i) = x.col(i);
+  sc.moved_masses.push_back(i);
+}
+
 // How far each mass of a pair is from where it was at the detection.
 void measure_away(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
   for (const std::uint32_t i : sc.pair_masses) sc.away[i] = away_from(sc, x, i);
@@ -49,6 +56,7 @@ bool separate(const Model& m, SelfScratch& sc, const SelfContact& contact, bool 
   const double keep = slide <= mu_s * depth ? 1.0 : (slide > 0.0 ? std::min(1.0, mu_k * depth / slide) : 0.0);
   const Eigen::Vector3d dg = depth * n - keep * tangent;  // the change of the gap vector
   for (int k = 0; k < 4; ++k) {
+    keep_start(sc, x, q[k]);
     x.col(q[k]) += (c[k] * w[k] / wsum) * dg;
     sc.away[q[k]] = away_from(sc, x, q[k]);
   }
@@ -81,27 +89,78 @@ int self_contact_begin(const Model& model, const State& state, Workspace& ws, do
     if (sc.overrun_pairs > 0 && sc.pin_overruns == 0) sc.first_pin_overrun = state.t;
     sc.pin_overruns += sc.overrun_pairs;
   }
-  sc.xs = state.x;
+  for (const std::uint32_t i : sc.pair_masses) sc.xs.col(i) = state.x.col(i);  // (friction's start: pairs only)
   return parts;
 }
 
 namespace {
 
-// Each free mass back within its bound of where it was at the detection; a mass held back is
-// locked (weight 0) for the springs' pass that follows. Whether any was.
-bool hold(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, const Workspace& ws) {
-  const auto n = static_cast<std::int64_t>(model.mass_count());
-  return parallel_any(team(ws, model.mass_count()), n, [&](std::int64_t i) {
-    const double b = sc.bound[static_cast<std::size_t>(i)];
-    const Eigen::Vector3d d = x.col(i) - sc.xd.col(i) - sc.shift;
-    if (d.squaredNorm() < kSurelyWithin * b * b) return false;
-    const double len = d.norm();
-    if (!(len > b && model.inv_mass[i] != 0.0)) return false;
-    x.col(i) = sc.xd.col(i) + sc.shift + (b / len) * d;
-    sc.weight[static_cast<std::size_t>(i)] = 0.0;
-    sc.held[static_cast<std::size_t>(i)] = 1;
-    return true;
+// Mass i back within its bound of where it was at the detection, when free and past it;
+// whether it was. Its start is kept by the caller (held masses are few).
+bool hold_one(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, std::uint32_t i, Eigen::Vector3d& start) {
+  const double b = sc.bound[i];
+  const Eigen::Vector3d d = x.col(i) - sc.xd.col(i) - sc.shift;
+  if (d.squaredNorm() < kSurelyWithin * b * b) return false;
+  const double len = d.norm();
+  if (!(len > b && model.inv_mass[i] != 0.0)) return false;
+  start = x.col(i);
+  x.col(i) = sc.xd.col(i) + sc.shift + (b / len) * d;
+  sc.held[i] = 1;
+  return true;
+}
+
+// The mass held last (sc.held_now) takes start as its position before the stage's moves.
+void keep_held_start(SelfScratch& sc, const Eigen::Vector3d& start) {
+  const std::uint32_t i = sc.held_now.back().first;
+  if (sc.kept[i] == sc.ends) return;
+  sc.kept[i] = sc.ends, sc.xpre.col(i) = start;
+  sc.moved_masses.push_back(i);
+}
+
+// Every free mass back within its bound (threads split the masses and join their lists in
+// order): the masses it held in sc.held_now.
+void hold_all(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, const Workspace& ws) {
+  const auto n = static_cast<std::uint32_t>(model.mass_count());
+  const int nt = team(ws, n);
+  sc.held_parts.resize(static_cast<std::size_t>(std::max(nt, 1)));
+  parallel_region(nt, [&](int t, int parts) {
+    auto& out = sc.held_parts[static_cast<std::size_t>(t)];
+    out.clear();
+    Eigen::Vector3d start;
+    const auto i0 = static_cast<std::uint32_t>(std::uint64_t{n} * static_cast<std::uint64_t>(t) / static_cast<std::uint64_t>(parts));
+    const auto i1 = static_cast<std::uint32_t>(std::uint64_t{n} * static_cast<std::uint64_t>(t + 1) / static_cast<std::uint64_t>(parts));
+    for (std::uint32_t i = i0; i < i1; ++i)
+      if (hold_one(model, sc, x, i, start)) out.emplace_back(i, start);
   });
+  sc.held_now.clear();
+  for (std::size_t t = 0; t < static_cast<std::size_t>(std::max(nt, 1)); ++t)
+    for (const auto& h : sc.held_parts[t]) sc.held_now.push_back(h), keep_held_start(sc, h.second);
+}
+
+// hold_all() after a push: only the pairs' masses and those the last hold held can be past
+// their bounds (no other mass has moved since it looked).
+void hold_pushed(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x) {
+  sc.held_last.swap(sc.held_now);
+  sc.held_now.clear();
+  Eigen::Vector3d start;
+  const auto one = [&](std::uint32_t i) {
+    if (hold_one(model, sc, x, i, start)) sc.held_now.emplace_back(i, start), keep_held_start(sc, start);
+  };
+  for (const std::uint32_t i : sc.pair_masses) one(i);
+  for (const auto& h : sc.held_last)
+    if (sc.listed[h.first] != sc.stamp) one(h.first);  // (not a pair's: listed marks those)
+}
+
+// The springs take their length again with the masses just held locked (weight 0). Every mass
+// may move: the starts of all not yet moved are kept first.
+void relax_around_held(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, Workspace& ws, double h) {
+  for (std::uint32_t i = 0; i < model.mass_count(); ++i)
+    if (sc.kept[i] != sc.ends) sc.kept[i] = sc.ends, sc.xpre.col(i) = x.col(i);
+  sc.all_moved = true;
+  std::copy(model.inv_mass.data(), model.inv_mass.data() + model.inv_mass.size(), sc.weight.begin());
+  for (const auto& held : sc.held_now) sc.weight[held.first] = 0.0;
+  relax_structural(model, x, sc.weight.data(), ws, h);
+  hold_all(model, sc, x, ws);
 }
 
 // Every close pair pushed apart once, in order. Whether any was.
@@ -123,7 +182,7 @@ void limit_strain_within_bounds(const Model& model, State& state, Workspace& ws,
   find_common_move(state, sc);
   // The first move within the step's bounds; each next one within bounds found where the
   // last left the masses.
-  for (int move = 0; hold(model, sc, state.x, ws) && move < kSelfLimiterMoves; ++move) {
+  for (int move = 0; (hold_all(model, sc, state.x, ws), !sc.held_now.empty()) && move < kSelfLimiterMoves; ++move) {
     detect_self(model, state, h, sc, ws);
     state.x = sc.xlim;
   }
@@ -131,9 +190,27 @@ void limit_strain_within_bounds(const Model& model, State& state, Workspace& ws,
   for (Eigen::Index i = 0; i < state.x.cols() && !sc.detect; ++i) sc.detect = nears_bound(sc, state.x, state.v, i, h);
 }
 
+namespace {
+
+// Mass i's velocity takes the stage's moves: a mass held at its bound keeps its velocity but
+// the part that leaves the bound (an inelastic stop: holding never adds energy; the passes
+// move only positions); any other takes its move over h.
+void take_moves(SelfScratch& sc, State& state, std::uint32_t i, double h) {
+  if (std::isinf(sc.bound[i])) return;
+  const Eigen::Vector3d out = state.x.col(i) - sc.xd.col(i) - sc.shift;
+  if (sc.held[i] && out.norm() > 0.0) {
+    const Eigen::Vector3d u = out.normalized();
+    state.v.col(i) -= std::max(0.0, state.v.col(i).dot(u)) * u;
+  } else {
+    state.v.col(i) += (state.x.col(i) - sc.xpre.col(i)) / h;
+  }
+}
+
+}  // namespace
+
 void self_contact_end(const Model& model, State& state, Workspace& ws, double h) {
   SelfScratch& sc = *ws.self;
-  sc.xpre = state.x;
+  ++sc.ends, sc.moved_masses.clear(), sc.all_moved = false;
   find_common_move(state, sc);
   std::fill(sc.held.begin(), sc.held.end(), std::uint8_t{0});
   // Pushes and bounds in turn: a push the bounds cut short gets another try within them. With
@@ -143,32 +220,24 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
   const bool springs = model.options.integrator == Integrator::XPBD;
   for (int pass = 0; pass < kSelfPasses; ++pass) {
     const bool pushed = push_pairs(model, sc, state.x);
-    std::copy(model.inv_mass.data(), model.inv_mass.data() + model.inv_mass.size(), sc.weight.begin());
-    const bool held = hold(model, sc, state.x, ws);
-    if (held && springs) {
-      relax_structural(model, state.x, sc.weight.data(), ws, h);
-      hold(model, sc, state.x, ws);
-    }
+    if (pass == 0) hold_all(model, sc, state.x, ws);
+    else hold_pushed(model, sc, state.x);
+    const bool held = !sc.held_now.empty();
+    if (held && springs) relax_around_held(model, sc, state.x, ws, h);
     if (!pushed && !held) break;
   }
-  // The velocities take the pushes; a mass held at its bound keeps its velocity but the part
-  // that leaves the bound (an inelastic stop: holding never adds energy; the passes above
-  // move only positions). Detect again when a mass may reach its bound in the next step.
+  // The velocities take the moves (a mass the stage did not move has none to take).
   const auto n = static_cast<std::int64_t>(model.mass_count());
-  const bool near_bound = parallel_any(team(ws, model.mass_count()), n, [&](std::int64_t i) {
-    const double b = sc.bound[static_cast<std::size_t>(i)];
-    if (std::isinf(b)) return false;
-    const Eigen::Vector3d out = state.x.col(i) - sc.xd.col(i) - sc.shift;
-    if (sc.held[static_cast<std::size_t>(i)] && out.norm() > 0.0) {
-      const Eigen::Vector3d u = out.normalized();
-      state.v.col(i) -= std::max(0.0, state.v.col(i).dot(u)) * u;
-    } else {
-      state.v.col(i) += (state.x.col(i) - sc.xpre.col(i)) / h;
-    }
-    return nears_bound(sc, state.x, state.v, i, h);
-  });
-  // A collider that stops part of a cloth ends its common move: detect, and hold the bounds still.
-  sc.detect = near_bound || sc.pins_move || (sc.follow && ws.last_contacts > 0);
+  if (sc.all_moved)
+    parallel_for(team(ws, model.mass_count()), n, [&](std::int64_t i) { take_moves(sc, state, static_cast<std::uint32_t>(i), h); });
+  else
+    for (const std::uint32_t i : sc.moved_masses) take_moves(sc, state, i, h);
+  // Detect again when a mass may reach its bound in the next step. A collider that stops
+  // part of a cloth ends its common move: detect, and hold the bounds still.
+  sc.detect = sc.pins_move || (sc.follow && ws.last_contacts > 0) ||
+              parallel_find(team(ws, model.mass_count()), n, [&](std::int64_t i) {
+                return !std::isinf(sc.bound[static_cast<std::size_t>(i)]) && nears_bound(sc, state.x, state.v, i, h);
+              });
 }
 
 }  // namespace clothsim::detail

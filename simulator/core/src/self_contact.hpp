@@ -118,7 +118,14 @@ struct SelfScratch {
   bool follow = false;            ///< they do until the next detection: `common`, and no mass touched a collider
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();  ///< m, the common move since the detection (0 unless `follow`)
   Eigen::Vector3d drift = Eigen::Vector3d::Zero();  ///< m/s, the common velocity (0 unless `follow`)
-  Eigen::Matrix3Xd xs, xpre;      ///< (3 x n) at the step's start; before the stage's moves
+  Eigen::Matrix3Xd xs, xpre;      ///< (3 x n) at the step's start (the pairs' masses); before the stage's moves (those it moved)
+  std::uint64_t ends = 0;         ///< the response's runs (self_contact_end)
+  std::vector<std::uint64_t> kept;  ///< (n) the run that last kept the mass's xpre
+  std::vector<std::uint32_t> moved_masses;  ///< the masses this run moved, each once (all_moved: any)
+  bool all_moved = false;         ///< the springs moved every mass in this run
+  using Held = std::pair<std::uint32_t, Eigen::Vector3d>;  ///< a mass held, and where it was
+  std::vector<Held> held_now, held_last;   ///< the masses the last hold and the one before held
+  std::vector<std::vector<Held>> held_parts;  ///< per thread, while holding
   Eigen::Matrix3Xd xlim;          ///< (3 x n) strain limiting's result, while it is reached
   std::vector<std::uint8_t> held;     ///< (n) 1 if the stage held the mass at its bound this step
   std::vector<double> bound;      ///< (n) m, how far each mass may be from xd + shift (inf: pinned or in no face)

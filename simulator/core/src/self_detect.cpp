@@ -107,6 +107,7 @@ std::shared_ptr<SelfScratch> make_self_scratch(const Model& model) {
   sc->pin_move.assign(model.mass_count(), 0.0);
   sc->weight.assign(model.mass_count(), 0.0);
   sc->held.assign(model.mass_count(), 0);
+  sc->kept.assign(model.mass_count(), 0);
   sc->moved.assign(model.mass_count(), 0.0);
   sc->cluster_of.assign(model.mass_count(), 0);
   sc->reach.assign(model.mass_count(), 0.0);
