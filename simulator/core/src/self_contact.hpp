@@ -27,12 +27,12 @@ inline constexpr double kSelfLeastGap = 0.02;
 /// The detection looks this many contact distances around each element, and its candidate
 /// lists farther by a skin (a Verlet list's): they hold until a pair they lack has two masses
 /// moved apart by more than the skin, or than its distance less `far` (self_lists.cpp). The
-/// lists reach at most this part of the mesh's typical shortest edge (its triangles' median),
-/// so that they hold few pairs of neighbouring elements of one layer: the radius is as large
-/// as that allows within its range, and the skin is at least the radius and at most
-/// kSelfSkinMost contact distances.
+/// lists reach at most kSelfListReach of the mesh's typical shortest edge (its triangles'
+/// median), so that they hold few pairs of neighbouring elements of one layer. The radius is
+/// as large as allows `far` and a skin of one radius within kSelfRadiusReach of that edge, in
+/// its range; the skin is at least the radius and at most kSelfSkinMost contact distances.
 inline constexpr double kSelfRadiusLeast = 2.0, kSelfRadiusMost = 4.0;
-inline constexpr double kSelfSkinReach = 0.75;
+inline constexpr double kSelfRadiusReach = 0.75, kSelfListReach = 0.85;
 inline constexpr double kSelfSkinMost = 8.0;
 /// The candidate lists' moves are bounded per cluster of at most this many masses.
 inline constexpr std::uint32_t kSelfCluster = 16;

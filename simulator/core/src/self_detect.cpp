@@ -68,16 +68,16 @@ double median_shortest_edge(const Model& m) {
   return *mid;
 }
 
-// The detection radius, `far` and the skin: the candidate lists reach kSelfSkinReach of the
-// mesh's typical shortest edge, with the radius and skin as large as that allows within their ranges.
+// The detection radius, `far` and the skin, as large as the mesh's typical shortest edge
+// allows within their ranges (kSelfRadiusReach, kSelfListReach).
 void choose_reach(double shortest_edge, SelfScratch& sc) {
-  const double d = sc.distance, budget = kSelfSkinReach * shortest_edge;
+  const double d = sc.distance, budget = kSelfRadiusReach * shortest_edge;
   const double r = std::clamp((budget / d - 1.0) / (1.0 + 2.0 * kSelfGamma), kSelfRadiusLeast, kSelfRadiusMost);
   sc.radius = r * d;
   // A pair farther than the radius bounds no mass below it; bounds of at most kSelfGamma times
   // the radius keep a pair this far beyond the contact distance until the next detection.
   sc.far = std::max(sc.radius, d + 2.0 * kSelfGamma * sc.radius);
-  sc.skin = std::clamp(budget - sc.far, sc.radius, kSelfSkinMost * d);
+  sc.skin = std::clamp(kSelfListReach * shortest_edge - sc.far, sc.radius, kSelfSkinMost * d);
 }
 
 }  // namespace
