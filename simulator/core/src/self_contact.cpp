@@ -118,23 +118,33 @@ void keep_held_start(SelfScratch& sc, const Eigen::Vector3d& start) {
 }
 
 // Every free mass back within its bound (threads split the masses and join their lists in
-// order): the masses it held in sc.held_now.
-void hold_all(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, const Workspace& ws) {
+// order): the masses it held in sc.held_now. With `near`, also whether a mass it leaves alone
+// that is in no pair nears its bound (nears_bound at v over h): no later pass moves it unless
+// the springs relax.
+void hold_all(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, const Workspace& ws,
+              const Eigen::Matrix3Xd* v = nullptr, double h = 0.0, bool* near = nullptr) {
   const auto n = static_cast<std::uint32_t>(model.mass_count());
   const int nt = team(ws, n);
-  sc.held_parts.resize(static_cast<std::size_t>(std::max(nt, 1)));
+  const auto parts_n = static_cast<std::size_t>(std::max(nt, 1));
+  sc.held_parts.resize(parts_n);
+  sc.near_parts.assign(parts_n, 0);
   parallel_region(nt, [&](int t, int parts) {
     auto& out = sc.held_parts[static_cast<std::size_t>(t)];
     out.clear();
+    bool seen = near == nullptr;
     Eigen::Vector3d start;
     const auto i0 = static_cast<std::uint32_t>(std::uint64_t{n} * static_cast<std::uint64_t>(t) / static_cast<std::uint64_t>(parts));
     const auto i1 = static_cast<std::uint32_t>(std::uint64_t{n} * static_cast<std::uint64_t>(t + 1) / static_cast<std::uint64_t>(parts));
-    for (std::uint32_t i = i0; i < i1; ++i)
+    for (std::uint32_t i = i0; i < i1; ++i) {
       if (hold_one(model, sc, x, i, start)) out.emplace_back(i, start);
+      else if (!seen && sc.listed[i] != sc.stamp && !std::isinf(sc.bound[i])) seen = nears_bound(sc, x, *v, i, h);
+    }
+    sc.near_parts[static_cast<std::size_t>(t)] = near != nullptr && seen;
   });
+  if (near) *near = std::any_of(sc.near_parts.begin(), sc.near_parts.end(), [](std::uint8_t b) { return b != 0; });
   sc.held_now.clear();
   for (std::size_t t = 0; t < static_cast<std::size_t>(std::max(nt, 1)); ++t)
-    for (const auto& h : sc.held_parts[t]) sc.held_now.push_back(h), keep_held_start(sc, h.second);
+    for (const auto& held : sc.held_parts[t]) sc.held_now.push_back(held), keep_held_start(sc, held.second);
 }
 
 // hold_all() after a push: only the pairs' masses and those the last hold held can be past
@@ -218,9 +228,10 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
   // mass does not leave its neighbours pulling at it (which would feed the springs energy).
   // A pass that neither pushes nor holds leaves nothing for the next.
   const bool springs = model.options.integrator == Integrator::XPBD;
+  bool near_left = false;  // (a mass the passes leave alone nears its bound)
   for (int pass = 0; pass < kSelfPasses; ++pass) {
     const bool pushed = push_pairs(model, sc, state.x);
-    if (pass == 0) hold_all(model, sc, state.x, ws);
+    if (pass == 0) hold_all(model, sc, state.x, ws, &state.v, h, &near_left);
     else hold_pushed(model, sc, state.x);
     const bool held = !sc.held_now.empty();
     if (held && springs) relax_around_held(model, sc, state.x, ws, h);
@@ -234,10 +245,15 @@ void self_contact_end(const Model& model, State& state, Workspace& ws, double h)
     for (const std::uint32_t i : sc.moved_masses) take_moves(sc, state, i, h);
   // Detect again when a mass may reach its bound in the next step. A collider that stops
   // part of a cloth ends its common move: detect, and hold the bounds still.
+  const auto nears = [&](std::int64_t i) {
+    return !std::isinf(sc.bound[static_cast<std::size_t>(i)]) && nears_bound(sc, state.x, state.v, i, h);
+  };
+  const auto any_of = [&](const std::vector<std::uint32_t>& masses) {
+    return std::any_of(masses.begin(), masses.end(), [&](std::uint32_t i) { return nears(i); });
+  };
   sc.detect = sc.pins_move || (sc.follow && ws.last_contacts > 0) ||
-              parallel_find(team(ws, model.mass_count()), n, [&](std::int64_t i) {
-                return !std::isinf(sc.bound[static_cast<std::size_t>(i)]) && nears_bound(sc, state.x, state.v, i, h);
-              });
+              (sc.all_moved ? parallel_find(team(ws, model.mass_count()), n, nears)
+                            : near_left || any_of(sc.pair_masses) || any_of(sc.moved_masses));
 }
 
 }  // namespace clothsim::detail

@@ -126,6 +126,7 @@ struct SelfScratch {
   using Held = std::pair<std::uint32_t, Eigen::Vector3d>;  ///< a mass held, and where it was
   std::vector<Held> held_now, held_last;   ///< the masses the last hold and the one before held
   std::vector<std::vector<Held>> held_parts;  ///< per thread, while holding
+  std::vector<std::uint8_t> near_parts;       ///< per thread, while holding: a mass left alone nears its bound
   Eigen::Matrix3Xd xlim;          ///< (3 x n) strain limiting's result, while it is reached
   std::vector<std::uint8_t> held;     ///< (n) 1 if the stage held the mass at its bound this step
   std::vector<double> bound;      ///< (n) m, how far each mass may be from xd + shift (inf: pinned or in no face)
