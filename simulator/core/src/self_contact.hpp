@@ -111,6 +111,7 @@ struct SelfScratch {
   std::vector<double> cluster_moved;  ///< (clusters) m, the most its masses and its neighbours' moved apart
   std::vector<double> moved;      ///< (n) m, how much the gap of any of the mass's candidates may have changed since xl
   std::vector<std::uint32_t> active; ///< the candidates this detection measures
+  std::vector<Eigen::Vector3d> active_gap;  ///< their gap vectors, as it measured them
   std::vector<std::vector<std::uint32_t>> chosen;  ///< per part of the lists, while choosing `active`
   std::vector<std::uint32_t> order_at, ordered;  ///< (n + 1) where each mass's pairs start; `active` in order, while ordering it
   Eigen::Matrix3Xd xd;            ///< (3 x n) the positions at the last detection

@@ -17,17 +17,17 @@ namespace clothsim::detail {
 namespace {
 
 // The measured candidates that can come within their target before the next detection (their
-// gap less the bounds of their masses), each with the direction of its gap at x.
-void keep_reachable(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
+// gap less the bounds of their masses), each with the direction of its gap (active_gap).
+void keep_reachable(SelfScratch& sc) {
   sc.vt.clear(), sc.ee.clear();
-  for (std::uint32_t j : sc.active) {
+  for (std::size_t k = 0; k < sc.active.size(); ++k) {
+    const std::uint32_t j = sc.active[k];
     const SelfPair& p = candidate(sc, j);
     double reach = 0.0;
     for (std::uint32_t i : p.mass) reach = std::max(reach, std::isinf(sc.bound[i]) ? sc.pin_move[i] : sc.bound[i]);
     if (p.gap - 2.0 * reach >= p.target) continue;
     const bool vertex_triangle = j < sc.cand_vt.size();
-    double coef[4];
-    const Eigen::Vector3d g = pair_gap(x, p.mass, vertex_triangle, coef);
+    const Eigen::Vector3d& g = sc.active_gap[k];
     const double len = g.norm();
     (vertex_triangle ? sc.vt : sc.ee).push_back({p, len > 0.0 ? Eigen::Vector3d(g / len) : Eigen::Vector3d::Zero()});
   }
@@ -38,17 +38,19 @@ void keep_reachable(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
         if (sc.listed[i] != sc.stamp) sc.listed[i] = sc.stamp, sc.pair_masses.push_back(i);
 }
 
-// The gaps of the active candidates at x (threads split them; each pair writes its own); a
-// pair measured for the first time takes its target: the contact distance, or its distance
-// at rest when that is less.
+// The gaps of the active candidates at x, their vectors in active_gap (threads split them;
+// each pair writes its own); a pair measured for the first time takes its target: the
+// contact distance, or its distance at rest when that is less.
 void measure(const Model& m, SelfScratch& sc, const Eigen::Matrix3Xd& x, const Workspace& ws) {
   const auto n = static_cast<std::int64_t>(sc.active.size());
+  sc.active_gap.resize(sc.active.size());
   parallel_for(team(ws, sc.active.size()), n, [&](std::int64_t i) {
     double coef[4];
     const std::uint32_t j = sc.active[static_cast<std::size_t>(i)];
     SelfPair& p = candidate(sc, j);
     const bool vertex_triangle = j < sc.cand_vt.size();
-    p.gap = pair_gap(x, p.mass, vertex_triangle, coef).norm();
+    const Eigen::Vector3d& g = sc.active_gap[static_cast<std::size_t>(i)] = pair_gap(x, p.mass, vertex_triangle, coef);
+    p.gap = g.norm();
     if (p.target < 0.0) p.target = std::min(sc.distance, pair_gap(m.x0, p.mass, vertex_triangle, coef).norm());
   });
 }
@@ -145,7 +147,7 @@ void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, 
       if (!m.pinned[i]) sc.bound[i] = std::min(sc.bound[i], std::max(0.0, room));
   }
   for (std::size_t i = 0; i < m.mass_count(); ++i) sc.bound[i] *= kSelfGamma;
-  keep_reachable(sc, x);
+  keep_reachable(sc);
   sc.xd = x;
   sc.shift.setZero(), sc.drift.setZero();
   sc.follow = sc.common && ws.last_contacts == 0;
