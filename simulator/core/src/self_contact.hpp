@@ -113,7 +113,12 @@ struct SelfScratch {
   std::vector<std::uint32_t> active; ///< the candidates this detection measures
   std::vector<Eigen::Vector3d> active_gap;  ///< their gap vectors, as it measured them
   std::vector<std::vector<std::uint32_t>> chosen;  ///< per part of the lists, while choosing `active`
-  std::vector<std::uint32_t> order_at, ordered;  ///< (n + 1) where each mass's pairs start; `active` in order, while ordering it
+  std::vector<std::uint32_t> order_at;  ///< (n + 1) where each mass's pairs start, while ordering `active`
+  struct Keyed {
+    std::array<std::uint32_t, 4> mass;  ///< a candidate's masses
+    std::uint32_t j;                    ///< the candidate
+  };
+  std::vector<Keyed> keyed, keyed_ordered;  ///< `active` with their masses, in turn in order, while ordering it
   Eigen::Matrix3Xd xd;            ///< (3 x n) the positions at the last detection
   bool common = false;            ///< no mass in a face is pinned: the bounds may follow the cloths' common move
   bool follow = false;            ///< they do until the next detection: `common`, and no mass touched a collider

@@ -216,26 +216,27 @@ bool may_be_near(const SelfScratch& sc, std::uint32_t j) {
 // Orders `active` as the response pushes them: by their lowest mass (pushed in the trees'
 // order, region by region, the twist scene's strain runs away after 4 s: measured), then by
 // their masses, an order that does not depend on when the lists were built. A counting sort by
-// lowest mass, then each mass's few pairs sorted.
+// lowest mass, then each mass's few pairs sorted, each with its masses at hand.
 void order_active(SelfScratch& sc) {
-  const auto lowest = [&](std::uint32_t j) {
-    const std::uint32_t* q = candidate(sc, j).mass;
-    return std::min({q[0], q[1], q[2], q[3]});
-  };
+  auto& keyed = sc.keyed;
+  keyed.resize(sc.active.size());
+  for (std::size_t k = 0; k < sc.active.size(); ++k) {
+    const std::uint32_t* q = candidate(sc, sc.active[k]).mass;
+    keyed[k] = {{q[0], q[1], q[2], q[3]}, sc.active[k]};
+  }
+  const auto lowest = [](const SelfScratch::Keyed& e) { return std::min({e.mass[0], e.mass[1], e.mass[2], e.mass[3]}); };
   auto& at = sc.order_at;
   at.assign(sc.in_face.size() + 1, 0);  // (one place per mass, and the end)
-  for (std::uint32_t j : sc.active) ++at[lowest(j) + 1];
+  for (const auto& e : keyed) ++at[lowest(e) + 1];
   for (std::size_t i = 1; i < at.size(); ++i) at[i] += at[i - 1];
-  sc.ordered.resize(sc.active.size());
-  for (std::uint32_t j : sc.active) sc.ordered[at[lowest(j)]++] = j;  // (then at[i] ends mass i's pairs)
-  const auto by_masses = [&](std::uint32_t a, std::uint32_t b) {
-    const std::uint32_t *p = candidate(sc, a).mass, *q = candidate(sc, b).mass;
-    return std::lexicographical_compare(p, p + 4, q, q + 4);
-  };
-  const auto place = [&](std::size_t k) { return sc.ordered.begin() + static_cast<std::ptrdiff_t>(k); };
+  auto& ordered = sc.keyed_ordered;
+  ordered.resize(keyed.size());
+  for (const auto& e : keyed) ordered[at[lowest(e)]++] = e;  // (then at[i] ends mass i's pairs)
+  const auto by_masses = [](const SelfScratch::Keyed& a, const SelfScratch::Keyed& b) { return a.mass < b.mass; };
+  const auto place = [&](std::size_t k) { return ordered.begin() + static_cast<std::ptrdiff_t>(k); };
   for (std::size_t i = 0, begin = 0; i + 1 < at.size(); begin = at[i++])
     if (at[i] - begin > 1) std::sort(place(begin), place(at[i]), by_masses);
-  sc.active.swap(sc.ordered);
+  for (std::size_t k = 0; k < ordered.size(); ++k) sc.active[k] = ordered[k].j;
 }
 
 }  // namespace
