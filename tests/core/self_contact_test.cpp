@@ -1,6 +1,7 @@
 // Self-contact's hard cases (docs/collision.md, "Self-contact"): a fold closing at 10 m/s, two
 // cloths meeting at 10 m/s, two layers pressed onto a floor, a cloth twisted by its pins, and a
-// cloth that starts through itself. Every step is checked with count_self_crossings().
+// cloth that starts through itself (every step checked with count_self_crossings()); and the
+// stage on two threads against one.
 #include <clothsim/collision/point_triangle.hpp>
 #include <clothsim/model_builder.hpp>
 #include <clothsim/self_crossings.hpp>
@@ -144,6 +145,30 @@ TEST(SelfContact, TwoLayersPressedOntoAFloorStaySeparate) {
   const Eigen::Index half = lo.x.cols();
   EXPECT_GT(s.x.row(1).tail(half).minCoeff(), 0.0);
   EXPECT_GT(nearest(s.x, 0, half, half, 2 * half), 0.1 * m.contact.distance);
+}
+
+// The stage on two threads (large enough layers that the holds split between them): the same
+// bits as on one, through an impact that holds masses and relaxes the springs around them.
+TEST(SelfContact, TwoThreadsGiveTheSameBitsAsOne) {
+  Options o;
+  const Sheet lo = sheet(48, [](double a, double b) { return Eigen::Vector3d(a - 0.5, 0.05, b - 0.5); });
+  const Sheet hi = sheet(48, [](double a, double b) { return Eigen::Vector3d(0.8 * a - 0.4, 0.07, 0.8 * b - 0.4); });
+  ModelBuilder b(o, "pressed");
+  b.add_cloth(lo.x, lo.springs, {}, lo.triangles);
+  b.add_cloth(hi.x, hi.springs, {}, hi.triangles);
+  b.set_colliders(test::floor_collider());
+  const Model m = b.build();
+  ASSERT_GE(m.mass_count(), 4096u) << "enough masses for two threads";
+  State s1 = make_state(m), s2 = make_state(m);
+  s1.v.row(1).setConstant(-10.0), s2.v.row(1).setConstant(-10.0);
+  Workspace w1 = make_workspace(m), w2 = make_workspace(m);
+  w1.substeps = w2.substeps = 20, w2.threads = 2;
+  for (int k = 0; k < 200; ++k) {
+    ASSERT_TRUE(step(m, s1, w1).finite && step(m, s2, w2).finite);
+    ASSERT_TRUE(s1.x == s2.x && s1.v == s2.v) << "step " << k;
+  }
+  EXPECT_LT(s1.x.row(1).head(lo.x.cols()).maxCoeff(), 0.01) << "the lower layer lies on the floor";
+  EXPECT_EQ(count_self_crossings(m, s1.x).crossings, 0u);
 }
 
 // Two upright layers 1 cm apart falling edge first (no drag) as one at 10 m/s and more: their
