@@ -15,10 +15,10 @@ namespace clothsim::detail {
 
 namespace {
 
-// Mass i's position before the stage's first move of it in this step (xpre), kept once.
-void keep_start(SelfScratch& sc, const Eigen::Matrix3Xd& x, std::uint32_t i) {
+// Mass i's position `at` before the stage's first move of it in this step (xpre), kept once.
+void keep_start(SelfScratch& sc, std::uint32_t i, const Eigen::Vector3d& at) {
   if (sc.kept[i] == sc.ends) return;
-  sc.kept[i] = sc.ends, sc.xpre.col(i) = x.col(i);
+  sc.kept[i] = sc.ends, sc.xpre.col(i) = at;
   sc.moved_masses.push_back(i);
 }
 
@@ -56,7 +56,7 @@ bool separate(const Model& m, SelfScratch& sc, const SelfContact& contact, bool 
   const double keep = slide <= mu_s * depth ? 1.0 : (slide > 0.0 ? std::min(1.0, mu_k * depth / slide) : 0.0);
   const Eigen::Vector3d dg = depth * n - keep * tangent;  // the change of the gap vector
   for (int k = 0; k < 4; ++k) {
-    keep_start(sc, x, q[k]);
+    keep_start(sc, q[k], x.col(q[k]));
     x.col(q[k]) += (c[k] * w[k] / wsum) * dg;
     sc.away[q[k]] = away_from(sc, x, q[k]);
   }
@@ -109,14 +109,6 @@ bool hold_one(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, std::uin
   return true;
 }
 
-// The mass held last (sc.held_now) takes start as its position before the stage's moves.
-void keep_held_start(SelfScratch& sc, const Eigen::Vector3d& start) {
-  const std::uint32_t i = sc.held_now.back().first;
-  if (sc.kept[i] == sc.ends) return;
-  sc.kept[i] = sc.ends, sc.xpre.col(i) = start;
-  sc.moved_masses.push_back(i);
-}
-
 // Every free mass back within its bound (threads split the masses and join their lists in
 // order): the masses it held in sc.held_now. With `near`, also whether a mass it leaves alone
 // that is in no pair nears its bound (nears_bound at v over h): no later pass moves it unless
@@ -144,7 +136,7 @@ void hold_all(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, const Wo
   if (near) *near = std::any_of(sc.near_parts.begin(), sc.near_parts.end(), [](std::uint8_t b) { return b != 0; });
   sc.held_now.clear();
   for (std::size_t t = 0; t < static_cast<std::size_t>(std::max(nt, 1)); ++t)
-    for (const auto& held : sc.held_parts[t]) sc.held_now.push_back(held), keep_held_start(sc, held.second);
+    for (const auto& held : sc.held_parts[t]) sc.held_now.push_back(held), keep_start(sc, held.first, held.second);
 }
 
 // hold_all() after a push: only the pairs' masses and those the last hold held can be past
@@ -154,7 +146,7 @@ void hold_pushed(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x) {
   sc.held_now.clear();
   Eigen::Vector3d start;
   const auto one = [&](std::uint32_t i) {
-    if (hold_one(model, sc, x, i, start)) sc.held_now.emplace_back(i, start), keep_held_start(sc, start);
+    if (hold_one(model, sc, x, i, start)) sc.held_now.emplace_back(i, start), keep_start(sc, i, start);
   };
   for (const std::uint32_t i : sc.pair_masses) one(i);
   for (const auto& h : sc.held_last)
