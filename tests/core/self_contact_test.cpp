@@ -129,20 +129,25 @@ TEST(SelfContact, TwoClothsMeetingHeadOnStayApart) {
   EXPECT_GT(nearest(s.x, 0, half, half, 2 * half), 0.1 * m.contact.distance);
 }
 
-// Two layers thrown onto a floor at 10 m/s, the upper pressing the lower against it.
-TEST(SelfContact, TwoLayersPressedOntoAFloorStaySeparate) {
+// Two layers of n x n masses over a floor, 2 cm apart, the upper 0.8 times as wide.
+Model layers_over_floor(int n) {
   Options o;
-  const Sheet lo = sheet(17, [](double a, double b) { return Eigen::Vector3d(a - 0.5, 0.05, b - 0.5); });
-  const Sheet hi = sheet(17, [](double a, double b) { return Eigen::Vector3d(0.8 * a - 0.4, 0.07, 0.8 * b - 0.4); });
+  const Sheet lo = sheet(n, [](double a, double b) { return Eigen::Vector3d(a - 0.5, 0.05, b - 0.5); });
+  const Sheet hi = sheet(n, [](double a, double b) { return Eigen::Vector3d(0.8 * a - 0.4, 0.07, 0.8 * b - 0.4); });
   ModelBuilder b(o, "pressed");
   b.add_cloth(lo.x, lo.springs, {}, lo.triangles);
   b.add_cloth(hi.x, hi.springs, {}, hi.triangles);
   b.set_colliders(test::floor_collider());
-  const Model m = b.build();
+  return b.build();
+}
+
+// Two layers thrown onto a floor at 10 m/s, the upper pressing the lower against it.
+TEST(SelfContact, TwoLayersPressedOntoAFloorStaySeparate) {
+  const Model m = layers_over_floor(17);
   State s = make_state(m);
   s.v.row(1).setConstant(-10.0);
   EXPECT_EQ(run_checked(m, s, 1.0), 0u);
-  const Eigen::Index half = lo.x.cols();
+  const Eigen::Index half = s.x.cols() / 2;
   EXPECT_GT(s.x.row(1).tail(half).minCoeff(), 0.0);
   EXPECT_GT(nearest(s.x, 0, half, half, 2 * half), 0.1 * m.contact.distance);
 }
@@ -150,14 +155,7 @@ TEST(SelfContact, TwoLayersPressedOntoAFloorStaySeparate) {
 // The stage on two threads (large enough layers that the holds split between them): the same
 // bits as on one, through an impact that holds masses and relaxes the springs around them.
 TEST(SelfContact, TwoThreadsGiveTheSameBitsAsOne) {
-  Options o;
-  const Sheet lo = sheet(48, [](double a, double b) { return Eigen::Vector3d(a - 0.5, 0.05, b - 0.5); });
-  const Sheet hi = sheet(48, [](double a, double b) { return Eigen::Vector3d(0.8 * a - 0.4, 0.07, 0.8 * b - 0.4); });
-  ModelBuilder b(o, "pressed");
-  b.add_cloth(lo.x, lo.springs, {}, lo.triangles);
-  b.add_cloth(hi.x, hi.springs, {}, hi.triangles);
-  b.set_colliders(test::floor_collider());
-  const Model m = b.build();
+  const Model m = layers_over_floor(48);
   ASSERT_GE(m.mass_count(), 4096u) << "enough masses for two threads";
   State s1 = make_state(m), s2 = make_state(m);
   s1.v.row(1).setConstant(-10.0), s2.v.row(1).setConstant(-10.0);
@@ -167,7 +165,7 @@ TEST(SelfContact, TwoThreadsGiveTheSameBitsAsOne) {
     ASSERT_TRUE(step(m, s1, w1).finite && step(m, s2, w2).finite);
     ASSERT_TRUE(s1.x == s2.x && s1.v == s2.v) << "step " << k;
   }
-  EXPECT_LT(s1.x.row(1).head(lo.x.cols()).maxCoeff(), 0.01) << "the lower layer lies on the floor";
+  EXPECT_LT(s1.x.row(1).head(s1.x.cols() / 2).maxCoeff(), 0.01) << "the lower layer lies on the floor";
   EXPECT_EQ(count_self_crossings(m, s1.x).crossings, 0u);
 }
 
