@@ -135,7 +135,7 @@ void hold_all(const Model& model, SelfScratch& sc, Eigen::Matrix3Xd& x, const Wo
   });
   if (near) *near = std::any_of(sc.near_parts.begin(), sc.near_parts.end(), [](std::uint8_t b) { return b != 0; });
   sc.held_now.clear();
-  for (std::size_t t = 0; t < static_cast<std::size_t>(std::max(nt, 1)); ++t)
+  for (std::size_t t = 0; t < parts_n; ++t)
     for (const auto& held : sc.held_parts[t]) sc.held_now.push_back(held), keep_start(sc, held.first, held.second);
 }
 
