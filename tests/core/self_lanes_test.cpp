@@ -90,8 +90,8 @@ TEST(SelfLanes, LeafLanesMeetAsNearDoes) {
 }
 
 // The check of one pair: cleared when the leaves' move is within the pair's room at xl (its
-// boxes' distance less far, at least the skin), the room left then.
-bool clears_one(const Box& p, const Box& q, const LeafCheck& c, double& slack) {
+// boxes' distance less far, at least the skin), the least room of those cleared.
+bool clears_one(const Box& p, const Box& q, const LeafCheck& c, double& least_room) {
   double s = 0.0;
   for (int k = 0; k < 3; ++k) {
     const double d = std::max({0.0, p[k] - q[k + 3], q[k] - p[k + 3]});
@@ -99,7 +99,7 @@ bool clears_one(const Box& p, const Box& q, const LeafCheck& c, double& slack) {
   }
   const double room = std::max(c.skin, std::sqrt(s) - c.far);
   if (!(c.moved <= room)) return false;
-  slack = std::min(slack, room - c.moved);
+  least_room = std::min(least_room, room);
   return true;
 }
 
@@ -115,27 +115,27 @@ TEST(SelfLanes, LeafLanesClearAsOnePairAtATime) {
     const LeafCheck c{0.05 * (round % 7), 0.1, 0.2, cb, one};
     const SelfBvh::Lanes& lb = c.one ? l.la : l.lb;
     const std::array<Box, 4>& b = c.one ? l.a : l.b;
-    double want_slack = 1.0;
+    double want_room = 1.0;
     std::uint32_t want = 0, pairs = 0;
     for (std::uint32_t i = 0; i < l.ca; ++i)
       for (std::uint32_t j = c.one ? i + 1 : 0; j < cb; ++j) {
         pairs |= std::uint32_t{1} << (4 * i + j);
-        if (!clears_one(l.a[i], b[j], c, want_slack)) want |= std::uint32_t{1} << (4 * i + j);
+        if (!clears_one(l.a[i], b[j], c, want_room)) want |= std::uint32_t{1} << (4 * i + j);
       }
-    double slack = 1.0;
-    const std::uint32_t got = leaf_clears(l.la, l.ca, lb, c, slack);
+    double room = 1.0;
+    const std::uint32_t got = leaf_clears(l.la, l.ca, lb, c, room);
     ASSERT_EQ(got & ~pairs, 0u) << "round " << round;  // (only pairs, whatever the boxes)
     if (has_nan(l.a) || has_nan(b)) {  // (a NaN box: the plain and wide answers agree)
-      want = got, want_slack = slack;
+      want = got, want_room = room;
     } else {
       ASSERT_EQ(got, want) << "round " << round;
-      ASSERT_EQ(slack, want_slack) << "round " << round;
+      ASSERT_EQ(room, want_room) << "round " << round;
     }
 #ifdef CLOTHSIM_AVX2
     if (__builtin_cpu_supports("avx2")) {
-      double wide_slack = 1.0;
-      ASSERT_EQ(leaf_clears_avx2(l.la, l.ca, lb, c, wide_slack), want) << "round " << round;
-      ASSERT_EQ(wide_slack, want_slack) << "round " << round;
+      double wide_room = 1.0;
+      ASSERT_EQ(leaf_clears_avx2(l.la, l.ca, lb, c, wide_room), want) << "round " << round;
+      ASSERT_EQ(wide_room, want_room) << "round " << round;
     }
 #endif
     cleared += std::popcount(~want & 0xffffu) > 0, left += want != 0;

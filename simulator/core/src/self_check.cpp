@@ -1,7 +1,8 @@
 // The candidate lists' check (docs/collision.md, "Self-contact"): whether the lists still hold
 // every pair within `far`, a descent of the trees at xl whose nodes bound their masses' moves.
-// The descent splits into tasks on the threads; they join in the order one descent would take
-// them, so the answer, the slack and the pairs found late are the same on any thread count.
+// Each check keeps where its descent stopped (the front, as in front tracking of bounding
+// volume test trees) and the next starts there. The front splits into runs on the threads; they
+// join in order, so the answer, the slack and the pairs found late are the same on any thread count.
 #include "parallel.hpp"
 #include "self_moves.hpp"
 
@@ -37,7 +38,7 @@ void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
 }
 
 std::uint32_t leaf_clears(const SelfBvh::Lanes& a, std::uint32_t count, const SelfBvh::Lanes& b, const LeafCheck& c,
-                          double& slack) {
+                          double& least_room) {
   std::uint32_t left = 0;
   for (std::uint32_t i = 0; i < count; ++i)
     for (std::uint32_t j = c.one ? i + 1 : 0; j < c.other; ++j) {
@@ -47,7 +48,7 @@ std::uint32_t leaf_clears(const SelfBvh::Lanes& a, std::uint32_t count, const Se
         s += d * d;
       }
       const double room = std::max(std::sqrt(s) - c.far, c.skin);
-      if (c.moved <= room) slack = std::min(slack, room - c.moved);
+      if (c.moved <= room) least_room = std::min(least_room, room);
       else left |= std::uint32_t{1} << (4 * i + j);
     }
   return left;
@@ -55,10 +56,18 @@ std::uint32_t leaf_clears(const SelfBvh::Lanes& a, std::uint32_t count, const Se
 
 namespace {
 
-/// The check's descent hands the node pairs this deep to tasks.
+/// The check's first descent after a build hands the node pairs this deep to tasks.
 constexpr int kCheckSplitDepth = 8;
 /// A task tells the check's shared count of tests what it has added in batches of this many.
 constexpr std::uint64_t kCheckTell = 4096;
+/// The check splits the front into about this many runs for the threads.
+constexpr std::size_t kCheckParts = 64;
+/// Testing this many entries of the front counts as one test against the budget: an entry's
+/// test is one box distance, a build's test of a pair its boxes and often their gap.
+constexpr std::uint64_t kFrontWeight = 4;
+
+using FrontEntry = SelfScratch::FrontEntry;
+constexpr double kToDescend = -std::numeric_limits<double>::infinity();
 
 // One descent of tree ta against tb (one tree: each pair once), with their nodes' move boxes.
 struct Descent {
@@ -71,23 +80,21 @@ struct Descent {
   decltype(&leaf_clears) clears_leaves = leaf_clears;
 #endif
 
-  // Whether node pair np's masses cannot have come within `far` unlisted; the slack takes its room.
-  bool clears(SelfBvh::NodePair np, double& slack) const {
-    const double allowed = std::max(sc.skin, node_distance(ta.nodes[np.a], tb.nodes[np.b]) - sc.far);
-    const double moved = apart(ma[np.a], mb[np.b]);
-    if (moved > allowed) return false;
-    slack = std::min(slack, allowed - moved);
-    return true;
+  // How far apart node pair np's masses may move since xl with its masses not within `far`
+  // unlisted, whatever they are: its boxes' distance at xl less `far`, at least the skin.
+  double allowed(SelfBvh::NodePair np) const {
+    return std::max(sc.skin, node_distance(ta.nodes[np.a], tb.nodes[np.b]) - sc.far);
   }
+  double moved(SelfBvh::NodePair np) const { return apart(ma[np.a], mb[np.b]); }
 
   bool leaves(SelfBvh::NodePair np) const { return ta.nodes[np.a].count > 0 && tb.nodes[np.b].count > 0; }
 
   // Checks primitive pair (i of ta, j of tb, places in their trees' order), one its leaves'
   // move does not clear (leaf_clears): one that shares no mass, was at least far + skin apart
   // at xl and whose masses have moved apart by more than that distance less `far` may now be
-  // within `far`, and is found late if it is not listed yet. Any other bounds the slack: how
-  // much more its masses may move apart.
-  void check_pair(std::uint32_t i, std::uint32_t j, SelfScratch::CheckTask& out) const {
+  // within `far`, and is found late if it is not listed yet. Any other bounds the slack (how
+  // much more its masses may move apart) and the limit of its leaf pair's entry.
+  void check_pair(std::uint32_t i, std::uint32_t j, SelfScratch::CheckTask& out, double& limit) const {
     const auto ka = static_cast<std::size_t>(ta.k), kb = static_cast<std::size_t>(tb.k);
     const std::uint32_t *pa = &ta.corners[ta.order[i] * ka], *pb = &tb.corners[tb.order[j] * kb];
     double most2 = 0.0;  // (one square root for the largest: the same as the largest root)
@@ -100,7 +107,7 @@ struct Descent {
     const Box &ba = ta.box[i], &bb = tb.box[j];
     const double allowed = std::max(sc.skin, box_distance(ba.data(), ba.data() + 3, bb.data(), bb.data() + 3) - sc.far);
     if (most <= allowed) {
-      out.slack = std::min(out.slack, allowed - most);
+      out.slack = std::min(out.slack, allowed - most), limit = std::min(limit, allowed);
       return;
     }
     const bool vt = ka == 1;
@@ -113,7 +120,7 @@ struct Descent {
     const double at_xl = pair_gap(sc.xl, q, vt, coef).norm();
     if (at_xl < sc.far + sc.skin) return;  // (listed)
     if (most <= at_xl - sc.far) {
-      out.slack = std::min(out.slack, at_xl - sc.far - most);
+      out.slack = std::min(out.slack, at_xl - sc.far - most), limit = std::min(limit, at_xl - sc.far);
       return;
     }
     const std::uint64_t key = std::uint64_t{vt ? 0u : 1u} << 63 | std::uint64_t{lo} << 32 | hi;
@@ -121,98 +128,128 @@ struct Descent {
     out.late.push_back({key, {{q[0], q[1], q[2], q[3]}, -1.0, 0.0, at_xl}});
   }
 
-  // The descent under task t's node pair. It gives up once the whole check (`spent`, shared
-  // with the other tasks) has tested more than `cap`: the lists are built again then.
-  void run(SelfScratch::CheckTask& t, std::vector<SelfBvh::NodePair>& stack, std::atomic<std::uint64_t>& spent,
-           std::uint64_t cap) const {
-    const bool self = &ta == &tb;
-    t.work = 0, t.at_last_leaf = 0, t.slack = std::numeric_limits<double>::infinity();
-    t.late.clear();
-    std::uint64_t told = 0;
-    stack.assign(1, t.start);
+  // A leaf pair's primitive pairs; returns its entry's limit: the least room of the pairs
+  // that are not listed.
+  double check_leaves(SelfBvh::NodePair np, double moved, SelfScratch::CheckTask& t) const {
+    const auto &na = ta.nodes[np.a], &nb = tb.nodes[np.b];
+    const LeafCheck c{moved, sc.skin, sc.far, nb.count, &ta == &tb && np.a == np.b};
+    t.work += c.one ? na.count * (na.count - 1) / 2 : na.count * nb.count;
+    double limit = std::numeric_limits<double>::infinity();
+    std::uint32_t left = clears_leaves(ta.lanes[ta.lane_slot[np.a]], na.count, tb.lanes[tb.lane_slot[np.b]], c, limit);
+    t.slack = std::min(t.slack, limit - moved);
+    for (; left != 0; left &= left - 1) {
+      const auto bit = static_cast<std::uint32_t>(__builtin_ctz(left));
+      check_pair(na.first + bit / 4, nb.first + bit % 4, t, limit);
+    }
+    return limit;
+  }
+
+  // The descent under node pair np; its entries go to t.front in the order it pops them.
+  void descend(SelfBvh::NodePair start, SelfScratch::CheckTask& t, std::vector<SelfBvh::NodePair>& stack) const {
+    stack.assign(1, start);
     while (!stack.empty()) {
       const SelfBvh::NodePair np = stack.back();
       stack.pop_back();
       ++t.work;
-      if (clears(np, t.slack)) continue;
-      if (!leaves(np)) {
+      const double room = allowed(np), move = moved(np);
+      if (move <= room) {
+        t.slack = std::min(t.slack, room - move);
+        t.front.push_back({np, room});
+      } else if (!leaves(np)) {
         ta.descend(tb, np, ta.nodes[np.a].count > 0, tb.nodes[np.b].count > 0, stack);
+      } else {
+        t.front.push_back({np, check_leaves(np, move, t)});
+      }
+    }
+  }
+
+  // Task t's run of the front: an entry whose nodes have not moved apart past its limit stays,
+  // any other is descended again. It gives up once the whole check (`spent`, shared with the
+  // other tasks) has tested more than `cap`: the lists are built again then.
+  void run(const std::vector<FrontEntry>& front, SelfScratch::CheckTask& t, std::vector<SelfBvh::NodePair>& stack,
+           std::atomic<std::uint64_t>& spent, std::uint64_t cap) const {
+    t.work = 0, t.slack = std::numeric_limits<double>::infinity();
+    t.front.clear(), t.late.clear();
+    std::uint64_t told = 0, entries = 0;
+    for (std::size_t k = t.begin; k < t.end; ++k) {
+      const FrontEntry& e = front[k];
+      const double move = moved(e.np);
+      ++entries;
+      if (move <= e.limit) {
+        t.slack = std::min(t.slack, e.limit - move);
+        t.front.push_back(e);
         continue;
       }
-      const auto &na = ta.nodes[np.a], &nb = tb.nodes[np.b];
-      const LeafCheck c{apart(ma[np.a], mb[np.b]), sc.skin, sc.far, nb.count, self && np.a == np.b};
-      t.work += c.one ? na.count * (na.count - 1) / 2 : na.count * nb.count;
-      for (std::uint32_t left = clears_leaves(ta.lanes[ta.lane_slot[np.a]], na.count, tb.lanes[tb.lane_slot[np.b]], c, t.slack);
-           left != 0; left &= left - 1) {
-        const auto bit = static_cast<std::uint32_t>(__builtin_ctz(left));
-        check_pair(na.first + bit / 4, nb.first + bit % 4, t);
-      }
-      t.at_last_leaf = t.work;
+      descend(e.np, t, stack);
       if (t.work - told < kCheckTell) continue;  // (the shared count is told in batches: it is contended)
       if (spent.fetch_add(t.work - told, std::memory_order_relaxed) + (t.work - told) > cap) return;
       told = t.work;
     }
-    spent.fetch_add(t.at_last_leaf - told, std::memory_order_relaxed);
+    t.work += entries / kFrontWeight;
+    spent.fetch_add(t.work - told, std::memory_order_relaxed);
   }
 
-  // The descent down to kCheckSplitDepth, in the order one descent pops node pairs: the node
-  // pairs it leaves for tasks, each with the node pairs it tested before it. Returns how many
-  // it tested.
-  std::uint64_t split(SelfScratch& s, double& slack) const {
+  // The front of a first check after a build: the descent down to kCheckSplitDepth, the node
+  // pairs it clears with their limits and those it leaves to descend, in the order one descent
+  // pops them. Returns how many node pairs it tested.
+  std::uint64_t split(SelfScratch& s, std::vector<FrontEntry>& front, double& slack) const {
     auto& stack = s.node_pairs;
     auto& depth = s.node_pair_depth;
     stack.assign(1, {0, 0}), depth.assign(1, 0);
-    std::size_t tasks = 0;
+    front.clear();
     std::uint64_t tested = 0;
     while (!stack.empty()) {
       const SelfBvh::NodePair np = stack.back();
       const std::uint8_t d = depth.back();
       stack.pop_back(), depth.pop_back();
       if (d >= kCheckSplitDepth || leaves(np)) {
-        if (s.check_tasks.size() <= tasks) s.check_tasks.emplace_back();
-        s.check_tasks[tasks].start = np, s.check_tasks[tasks++].before = tested;
+        front.push_back({np, kToDescend});
         continue;
       }
       ++tested;
-      if (clears(np, slack)) continue;
+      const double room = allowed(np), move = moved(np);
+      if (move <= room) {
+        slack = std::min(slack, room - move);
+        front.push_back({np, room});
+        continue;
+      }
       ta.descend(tb, np, ta.nodes[np.a].count > 0, tb.nodes[np.b].count > 0, stack);
       depth.resize(stack.size(), static_cast<std::uint8_t>(d + 1));
     }
-    s.check_tasks.resize(tasks);
     return tested;
   }
 };
 
 // Whether the lists hold every pair of primitives under trees ta and tb that is within `far` at
 // x, with the pairs found late listed: a pair's gap changes by at most the most two of its
-// masses, one of each element, have moved apart since xl. Not once the checks since the build
-// have tested more node pairs and pairs than the budget (kSelfCheckWeight), counted up to the
-// last leaf pair: the lists are built again then.
-bool pairs_hold(SelfScratch& sc, const SelfBvh& ta, const std::vector<Box>& ma, const SelfBvh& tb,
-                const std::vector<Box>& mb, const Workspace& ws) {
+// masses, one of each element, have moved apart since xl. The check tests the front its last
+// run left (the first after a build starts one). Not once the checks since the build have
+// tested more than the budget (kSelfCheckWeight): the lists are built again then.
+bool pairs_hold(SelfScratch& sc, std::vector<FrontEntry>& front, const SelfBvh& ta, const std::vector<Box>& ma,
+                const SelfBvh& tb, const std::vector<Box>& mb, const Workspace& ws) {
   const Descent descent{sc, ta, tb, ma, mb};
   double slack = sc.slack;
-  const std::uint64_t split_work = descent.split(sc, slack);
-  // (a check past twice the budget fails whatever its last leaf pair's count is)
+  std::uint64_t work = front.empty() ? descent.split(sc, front, slack) : 0;
   const std::uint64_t budget = sc.build_work / kSelfCheckWeight;
-  const std::uint64_t cap = 2 * budget - std::min(budget, sc.check_work);
-  std::atomic<std::uint64_t> spent{split_work};
+  if (sc.check_work + work > budget) return false;
+  const std::uint64_t cap = budget - sc.check_work - work;
+  std::atomic<std::uint64_t> spent{0};
+  const std::size_t parts = std::min(kCheckParts, front.size()), size = front.size();
+  sc.check_tasks.resize(parts);
+  for (std::size_t p = 0; p < parts; ++p) sc.check_tasks[p].begin = p * size / parts, sc.check_tasks[p].end = (p + 1) * size / parts;
   const int nt = team(ws, 4 * sc.faced_masses.size());
   sc.check_stacks.resize(static_cast<std::size_t>(std::max(1, nt)));
-  parallel_for_dynamic(nt, static_cast<std::int64_t>(sc.check_tasks.size()), [&](std::int64_t i) {
+  parallel_for_dynamic(nt, static_cast<std::int64_t>(parts), [&](std::int64_t i) {
     auto& stack = sc.check_stacks[nt > 1 ? thread_num() : 0];
-    descent.run(sc.check_tasks[static_cast<std::size_t>(i)], stack, spent, cap);
+    descent.run(front, sc.check_tasks[static_cast<std::size_t>(i)], stack, spent, cap);
   });
   if (spent.load() > cap) return false;
-  std::uint64_t work = sc.check_work, last_leaf = 0, before = 0;
+  front.clear();
   for (const auto& t : sc.check_tasks) {
-    work += t.before - before, before = t.before;
-    if (t.at_last_leaf > 0) last_leaf = work + t.at_last_leaf;
-    work += t.work;
-    slack = std::min(slack, t.slack);
+    work += t.work, slack = std::min(slack, t.slack);
+    front.insert(front.end(), t.front.begin(), t.front.end());
   }
-  if (last_leaf > budget) return false;
-  sc.check_work = work + split_work - before, sc.slack = slack;
+  sc.check_work += work, sc.slack = slack;
   for (const auto& t : sc.check_tasks)
     for (const auto& [key, pair] : t.late)
       if (sc.late.insert(key).second) (key >> 63 ? sc.cand_ee : sc.cand_vt).push_back(pair);
@@ -237,9 +274,9 @@ bool candidates_hold(const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace
   if (sc.slack >= 0.0) return true;  // (no two masses moved apart by more than the skin)
   sc.slack = inf;
   bound_moves(sc, sc.triangle_tree, sc.triangle_moved);
-  if (!pairs_hold(sc, sc.mass_tree, sc.node_moved, sc.triangle_tree, sc.triangle_moved, ws)) return false;
+  if (!pairs_hold(sc, sc.front_vt, sc.mass_tree, sc.node_moved, sc.triangle_tree, sc.triangle_moved, ws)) return false;
   bound_moves(sc, sc.edge_tree, sc.edge_moved);
-  return pairs_hold(sc, sc.edge_tree, sc.edge_moved, sc.edge_tree, sc.edge_moved, ws);
+  return pairs_hold(sc, sc.front_ee, sc.edge_tree, sc.edge_moved, sc.edge_tree, sc.edge_moved, ws);
 }
 
 }  // namespace clothsim::detail

@@ -92,15 +92,22 @@ struct SelfScratch {
   Eigen::Matrix3Xd dl;            ///< (3 x n) each mass's move since xl, at the last detection
   std::vector<double> reach, node_reach;  ///< m, (n) each mass's longest edge at xl; (mass tree nodes) their masses' longest
   std::vector<std::array<double, 6>> node_moved, triangle_moved, edge_moved;  ///< (each tree's nodes) the box of their masses' moves since xl
+  /// Where the check's descent stopped (self_check.cpp): a node pair, and how far apart its two
+  /// nodes' masses may have moved since xl with its pairs still clear (-inf: yet to descend).
+  /// The next check tests these and descends again only under those they no longer clear.
+  struct FrontEntry {
+    SelfBvh::NodePair np;
+    double limit;
+  };
+  std::vector<FrontEntry> front_vt, front_ee;  ///< the mass-triangle descent's, the edges'; empty after a build
   std::vector<SelfBvh::NodePair> node_pairs;      ///< a descent's stack
   std::vector<std::uint8_t> node_pair_depth;      ///< the depth of each node pair on it, while the check splits
-  /// A part of the check's descent (self_check.cpp): a node pair, and what its descent found.
+  /// A part of the check (self_check.cpp): a run of the front, and what testing it found.
   struct CheckTask {
-    SelfBvh::NodePair start;
-    std::uint64_t before = 0;        ///< the node pairs the split tested before it
-    std::uint64_t work = 0;          ///< the node pairs and pairs its descent tested
-    std::uint64_t at_last_leaf = 0;  ///< of them, those up to its last leaf pair's (0: none)
+    std::size_t begin = 0, end = 0;  ///< its entries of the front
+    std::uint64_t work = 0;          ///< the entries, node pairs and pairs it tested
     double slack = 0.0;              ///< m, the least slack it found
+    std::vector<FrontEntry> front;   ///< the entries that replace its run
     std::vector<std::pair<std::uint64_t, SelfPair>> late;  ///< the pairs it found late (key, pair), in order
   };
   std::vector<CheckTask> check_tasks;

@@ -151,6 +151,7 @@ void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc
   const double r = sc.far + sc.skin;
   const std::size_t work = 4 * m.mass_count();
   sc.build_work = 0, sc.check_work = 0;
+  sc.front_vt.clear(), sc.front_ee.clear();
   find_pairs(sc.mass_tree.join_tasks(sc.triangle_tree, r, kSelfJoinTasks), work, sc, ws, sc.cand_vt,
              [&](SelfBvh::NodePair np, SelfScratch::Found& out) {
                out.tested += sc.mass_tree.join(sc.triangle_tree, np, r, [&](std::uint32_t i, std::uint32_t t) {

@@ -49,18 +49,18 @@ void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x);
 /// `far` unlisted, by the leaves' largest relative move `moved` (the most two of their masses,
 /// one of each leaf, have moved apart) against the pair's room at xl (its boxes' distance less
 /// `far`, at least the skin). Returns the bits 4 i + j of the pairs it does not clear (i <
-/// count, j < other; with `one`, a leaf against itself, only j > i), and lowers `slack` to the
-/// least room left by those it clears. A NaN box clears nothing.
+/// count, j < other; with `one`, a leaf against itself, only j > i), and lowers `least_room` to
+/// the least room of those it clears. A NaN box clears nothing.
 struct LeafCheck {
   double moved, skin, far;
   std::uint32_t other;  ///< the second leaf's primitives
   bool one;
 };
 std::uint32_t leaf_clears(const SelfBvh::Lanes& a, std::uint32_t count, const SelfBvh::Lanes& b, const LeafCheck& c,
-                          double& slack);
+                          double& least_room);
 #ifdef CLOTHSIM_AVX2
 std::uint32_t leaf_clears_avx2(const SelfBvh::Lanes& a, std::uint32_t count, const SelfBvh::Lanes& b,
-                               const LeafCheck& c, double& slack);
+                               const LeafCheck& c, double& least_room);
 #endif
 
 /// Whether the lists still hold every pair within `far` at x, with the pairs found late listed
