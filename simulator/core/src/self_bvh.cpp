@@ -73,10 +73,12 @@ void SelfBvh::index_leaves() {
   mass_start.assign(1, 0);
   leaf_masses.clear();
   lane_slot.assign(nodes.size(), 0);
+  right.assign(nodes.size(), 0);
   std::uint32_t leaves = 0;
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const Node& nd = nodes[i];
     if (nd.count > 0) lane_slot[i] = leaves++;
+    else right[i] = nd.next;
     const auto begin = static_cast<std::ptrdiff_t>(leaf_masses.size());
     for (std::uint32_t j = nd.first; j < nd.first + nd.count; ++j)
       for (std::size_t c = 0; c < kk; ++c) leaf_masses.push_back(corners[order[j] * kk + c]);

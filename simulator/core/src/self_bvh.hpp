@@ -29,6 +29,9 @@ struct SelfBvh {
   /// (empty for an inner node). A leaf's primitives share masses, so a bound over its masses
   /// reads about half as many as one over its primitives' corners.
   std::vector<std::uint32_t> mass_start, leaf_masses;
+  /// (nodes) each inner node's right child, 0 for a leaf: the passes that need only the
+  /// tree's shape read these and mass_start, not the nodes' boxes.
+  std::vector<std::uint32_t> right;
   /// A leaf's primitive boxes as lanes, axis by axis (empty lanes never meet a box): a leaf
   /// pair's tests run four at a time.
   struct Lanes {

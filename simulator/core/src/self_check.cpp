@@ -16,10 +16,9 @@ void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& move
   constexpr double inf = std::numeric_limits<double>::infinity();
   const double* dl = sc.dl.data();
   for (std::size_t i = t.nodes.size(); i-- > 0;) {
-    const auto& nd = t.nodes[i];
     Box& b = moves[i];
-    if (nd.count == 0) {
-      const Box &l = moves[i + 1], &r = moves[nd.next];
+    if (t.right[i] != 0) {
+      const Box &l = moves[i + 1], &r = moves[t.right[i]];
       for (int a = 0; a < 3; ++a) b[a] = std::min(l[a], r[a]), b[a + 3] = std::max(l[a + 3], r[a + 3]);
       continue;
     }
