@@ -1,5 +1,6 @@
-// The self-contact BVH: median splits along the longest axis of the centroids, leaves of up
-// to four primitives, nodes in depth-first order so that a refit runs backwards once.
+// The self-contact BVH: splits along the longest axis of the centroids at half the count
+// rounded up to whole leaves, so that leaves fill their four lanes; nodes in depth-first
+// order so that a refit runs backwards once.
 #include "self_bvh.hpp"
 
 #include <algorithm>
@@ -17,8 +18,8 @@ struct Builder {
   const double* x;
   std::vector<std::array<double, 3>> centre;
 
-  // (each split halves the count: every leaf holds at most kLeaf primitives, and the depth is
-  // at most 32)
+  // (each split leaves at most half the count plus a leaf on each side: every leaf holds at
+  // most kLeaf primitives, and the depth stays under 40)
   std::uint32_t node(std::uint32_t first, std::uint32_t count) {
     const auto self = static_cast<std::uint32_t>(t.nodes.size());
     t.nodes.push_back({});
@@ -34,7 +35,7 @@ struct Builder {
     int axis = 0;
     for (int a = 1; a < 3; ++a)
       if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
-    const std::uint32_t half = count / 2;
+    const std::uint32_t half = kLeaf * ((count + 2 * kLeaf - 1) / (2 * kLeaf));
     auto* b = t.order.data() + first;
     std::nth_element(b, b + half, b + count, [&](std::uint32_t p, std::uint32_t q) {
       return centre[p][axis] < centre[q][axis] || (centre[p][axis] == centre[q][axis] && p < q);
