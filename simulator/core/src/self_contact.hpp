@@ -154,7 +154,7 @@ struct SelfScratch {
   std::uint64_t stamp = 0;
   struct Found {
     std::vector<SelfPair> pairs;
-    std::vector<std::array<std::uint32_t, 4>> edge_pairs;  ///< edge pairs whose boxes meet, to measure
+    std::vector<std::array<std::uint32_t, 4>> meeting;  ///< pairs whose boxes meet, to measure
     std::uint64_t tested = 0;  ///< node pairs and pairs
   };
   std::vector<Found> found;       ///< per task, while building the candidate lists
@@ -185,8 +185,11 @@ inline Eigen::Vector3d pair_gap(const Eigen::Matrix3Xd& x, const std::uint32_t m
 /// Which of four edge pairs (masses 0-1 | 2-3 each) are surely at least r apart at x (3 n): bit
 /// k for pair k. Their segments' distance in lanes, with room for rounding; a pair of nearly
 /// parallel or nearly zero-length edges is never sure. Four pair_gap() calls cost more.
+/// masses_apart_avx2: the same for four pairs of a mass (0) and a triangle (1-3), by a lower
+/// bound on their distance; a pair with a sliver triangle is never sure.
 #ifdef CLOTHSIM_AVX2
 std::uint32_t edges_apart_avx2(const double* x, const std::array<std::uint32_t, 4>* pairs, double r);
+std::uint32_t masses_apart_avx2(const double* x, const std::array<std::uint32_t, 4>* pairs, double r);
 #endif
 
 /// Candidate j of both lists (vt first).

@@ -25,7 +25,7 @@ void find_pairs(const std::vector<SelfBvh::NodePair>& tasks, std::size_t work, S
   sc.found.resize(std::max(sc.found.size(), tasks.size()));
   parallel_for_dynamic(team(ws, work), static_cast<std::int64_t>(tasks.size()), [&](std::int64_t i) {
     auto& found = sc.found[static_cast<std::size_t>(i)];
-    found.pairs.clear(), found.edge_pairs.clear(), found.tested = 0;
+    found.pairs.clear(), found.meeting.clear(), found.tested = 0;
     each(tasks[static_cast<std::size_t>(i)], found);
   });
   out.clear();
@@ -44,20 +44,22 @@ void keep(const Eigen::Matrix3Xd& x, double r, std::array<std::uint32_t, 4> mass
   if (p.built < r) out.pairs.push_back(p);
 }
 
-// keep() for the edge pairs found (in their order), four at a time ruling out those surely r
-// or more apart in AVX2 lanes.
-void keep_edges(const Eigen::Matrix3Xd& x, double r, SelfScratch::Found& out) {
-  const auto& e = out.edge_pairs;
+// keep() for the pairs found whose boxes meet (in their order), four at a time ruling out
+// those surely r or more apart in AVX2 lanes.
+void keep_meeting(const Eigen::Matrix3Xd& x, double r, bool vertex_triangle, SelfScratch::Found& out) {
+  const auto& e = out.meeting;
   std::size_t k = 0;
 #ifdef CLOTHSIM_AVX2
-  if (use_avx2())
+  if (use_avx2()) {
+    const auto apart_of = vertex_triangle ? masses_apart_avx2 : edges_apart_avx2;
     for (; k + 4 <= e.size(); k += 4) {
-      const std::uint32_t apart = edges_apart_avx2(x.data(), &e[k], r);
+      const std::uint32_t apart = apart_of(x.data(), &e[k], r);
       for (std::size_t j = 0; j < 4; ++j)
-        if (!(apart >> j & 1u)) keep(x, r, e[k + j], false, out);
+        if (!(apart >> j & 1u)) keep(x, r, e[k + j], vertex_triangle, out);
     }
+  }
 #endif
-  for (; k < e.size(); ++k) keep(x, r, e[k], false, out);
+  for (; k < e.size(); ++k) keep(x, r, e[k], vertex_triangle, out);
 }
 
 // The masses' clusters: the highest nodes of the masses' tree with at most kSelfCluster masses
@@ -156,8 +158,9 @@ void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc
              [&](SelfBvh::NodePair np, SelfScratch::Found& out) {
                out.tested += sc.mass_tree.join(sc.triangle_tree, np, r, [&](std::uint32_t i, std::uint32_t t) {
                  const std::uint32_t v = sc.faced_masses[i], *c = &sc.triangles[3 * std::size_t{t}];
-                 if (c[0] != v && c[1] != v && c[2] != v) keep(x, r, {v, c[0], c[1], c[2]}, true, out);
+                 if (c[0] != v && c[1] != v && c[2] != v) out.meeting.push_back({v, c[0], c[1], c[2]});
                });
+               keep_meeting(x, r, true, out);
              });
   find_pairs(sc.edge_tree.join_tasks(sc.edge_tree, r, kSelfJoinTasks), work, sc, ws, sc.cand_ee,
              [&](SelfBvh::NodePair np, SelfScratch::Found& out) {
@@ -165,9 +168,9 @@ void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc
                  const std::uint32_t* ab = &sc.edges[2 * std::size_t{std::min(e, f)}];
                  const std::uint32_t* cd = &sc.edges[2 * std::size_t{std::max(e, f)}];
                  if (cd[0] != ab[0] && cd[0] != ab[1] && cd[1] != ab[0] && cd[1] != ab[1])
-                   out.edge_pairs.push_back({ab[0], ab[1], cd[0], cd[1]});
+                   out.meeting.push_back({ab[0], ab[1], cd[0], cd[1]});
                });
-               keep_edges(x, r, out);
+               keep_meeting(x, r, false, out);
              });
   sc.built_vt = sc.cand_vt.size(), sc.built_ee = sc.cand_ee.size();
   sc.late.clear();

@@ -1,6 +1,7 @@
-// The candidate lists' build in AVX2 (self_contact.hpp, edges_apart_avx2): four edge pairs'
-// segment distances at once (Ericson 5.1.9, each branch computed and chosen per lane), to rule
-// out the many pairs whose boxes meet but whose segments are farther apart than the lists reach.
+// The candidate lists' build in AVX2 (self_contact.hpp): four pairs at once, to rule out the
+// many pairs whose boxes meet but whose elements are farther apart than the lists reach. Edge
+// pairs by their segments' distance (edges_apart_avx2: Ericson 5.1.9, each branch computed and
+// chosen per lane); a mass and a triangle by a lower bound on their distance (masses_apart_avx2).
 #include "self_contact.hpp"
 
 #ifdef CLOTHSIM_AVX2
@@ -19,20 +20,58 @@ __attribute__((target("avx2"), always_inline)) inline __m256d dot(const V3& a, c
 __attribute__((target("avx2"), always_inline)) inline V3 sub(const V3& a, const V3& b) {
   return {_mm256_sub_pd(a.x, b.x), _mm256_sub_pd(a.y, b.y), _mm256_sub_pd(a.z, b.z)};
 }
+__attribute__((target("avx2"), always_inline)) inline V3 cross(const V3& a, const V3& b) {
+  return {_mm256_sub_pd(_mm256_mul_pd(a.y, b.z), _mm256_mul_pd(a.z, b.y)),
+          _mm256_sub_pd(_mm256_mul_pd(a.z, b.x), _mm256_mul_pd(a.x, b.z)),
+          _mm256_sub_pd(_mm256_mul_pd(a.x, b.y), _mm256_mul_pd(a.y, b.x))};
+}
 __attribute__((target("avx2"), always_inline)) inline __m256d clamp01(__m256d v) {
   return _mm256_min_pd(_mm256_max_pd(v, _mm256_setzero_pd()), _mm256_set1_pd(1.0));
 }
 
-}  // namespace
-
-__attribute__((target("avx2"))) std::uint32_t edges_apart_avx2(const double* x, const std::array<std::uint32_t, 4>* pairs,
-                                                                double r) {
-  alignas(32) double c[4][3][4];  // (corner, axis, lane)
+// The four pairs' masses (corner, axis, lane).
+__attribute__((target("avx2"), always_inline)) inline void gather(const double* x, const std::array<std::uint32_t, 4>* pairs,
+                                                                   V3 p[4]) {
+  alignas(32) double c[4][3][4];
   for (int k = 0; k < 4; ++k)
     for (int m = 0; m < 4; ++m)
       for (int a = 0; a < 3; ++a) c[m][a][k] = x[3 * std::size_t{pairs[k][static_cast<std::size_t>(m)]} + static_cast<std::size_t>(a)];
-  V3 p[4];
   for (int m = 0; m < 4; ++m) p[m] = {_mm256_load_pd(c[m][0]), _mm256_load_pd(c[m][1]), _mm256_load_pd(c[m][2])};
+}
+
+}  // namespace
+
+// The triangle lies in its plane, inside the half-space behind each edge; so the mass is at
+// least as far from it as from the plane and that half-space's intersection: sqrt((n.w)^2 +
+// max(0, m.w)^2) over |n| for an edge p-q, w = v - p and m = (q - p) x n (|m| = |n| |q - p|).
+__attribute__((target("avx2"))) std::uint32_t masses_apart_avx2(const double* x, const std::array<std::uint32_t, 4>* pairs,
+                                                                 double r) {
+  V3 p[4];
+  gather(x, pairs, p);
+  const V3 n = cross(sub(p[2], p[1]), sub(p[3], p[1]));
+  const __m256d nn = dot(n, n), zero = _mm256_setzero_pd();
+  const double room = r * (1.0 + 1e-6);
+  const __m256d room2 = _mm256_set1_pd(room * room);
+  // (sure only where the triangle is not a sliver: its normal well defined)
+  const __m256d ab2 = dot(sub(p[2], p[1]), sub(p[2], p[1])), ac2 = dot(sub(p[3], p[1]), sub(p[3], p[1]));
+  __m256d sure = _mm256_cmp_pd(nn, _mm256_mul_pd(_mm256_set1_pd(1e-10), _mm256_mul_pd(ab2, ac2)), _CMP_GT_OQ);
+  const __m256d plane = dot(n, sub(p[0], p[1]));
+  __m256d any = _mm256_cmp_pd(_mm256_mul_pd(plane, plane), _mm256_mul_pd(room2, nn), _CMP_GE_OQ);
+  for (int e = 0; e < 3; ++e) {
+    const V3 &from = p[1 + e], &to = p[1 + (e + 1) % 3];
+    const V3 along = sub(to, from), m = cross(along, n);
+    const __m256d out = _mm256_max_pd(dot(m, sub(p[0], from)), zero), ll = dot(along, along);
+    // ((n.w)^2 |q - p|^2 + max(0, m.w)^2 >= room^2 |n|^2 |q - p|^2)
+    const __m256d lhs = _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(plane, plane), ll), _mm256_mul_pd(out, out));
+    any = _mm256_or_pd(any, _mm256_cmp_pd(lhs, _mm256_mul_pd(room2, _mm256_mul_pd(nn, ll)), _CMP_GE_OQ));
+  }
+  return static_cast<std::uint32_t>(_mm256_movemask_pd(_mm256_and_pd(sure, any)));
+}
+
+__attribute__((target("avx2"))) std::uint32_t edges_apart_avx2(const double* x, const std::array<std::uint32_t, 4>* pairs,
+                                                                double r) {
+  V3 p[4];
+  gather(x, pairs, p);
   const V3 d1 = sub(p[1], p[0]), d2 = sub(p[3], p[2]), w = sub(p[0], p[2]);
   const __m256d a = dot(d1, d1), e = dot(d2, d2), f = dot(d2, w), cc = dot(d1, w), b = dot(d1, d2);
   const __m256d ae = _mm256_mul_pd(a, e), denom = _mm256_sub_pd(ae, _mm256_mul_pd(b, b));
