@@ -1,9 +1,8 @@
 // The self-contact stage's tests in lanes, plain and AVX2: the joins' leaf pairs answer as
-// near() does for each pair of boxes; the lists' check clears the pairs and leaves the slack
-// that a test of one pair at a time gives (touching, apart, overlapping, empty lanes and NaN
-// alike); an edge pair or a mass and a triangle ruled out in lanes are never nearer than
-// pair_gap() says. White-box: the
-// stage's private headers.
+// near() does for each pair of boxes; the lists' check clears the pairs and leaves the least
+// room that a test of one pair at a time gives (touching, apart, overlapping, empty lanes and
+// NaN alike); an edge pair or a mass and a triangle ruled out in lanes are never nearer than
+// pair_gap() says. White-box: the stage's private headers.
 #include "self_moves.hpp"
 
 #include <Eigen/Core>
