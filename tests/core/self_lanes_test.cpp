@@ -145,47 +145,66 @@ TEST(SelfLanes, LeafLanesClearAsOnePairAtATime) {
 }
 
 #ifdef CLOTHSIM_AVX2
-// Random edge pairs around a distance of r, many of them parallel, crossing, sharing a line or
-// of zero length: none ruled out is nearer than r by pair_gap(), and nearly every pair in
-// general position that is farther than 1.01 r is ruled out.
-TEST(SelfLanes, EdgePairsRuledOutInLanesAreFartherThanTheirReach) {
-  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "no AVX2";
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> at(-0.02, 0.02), unit(-1.0, 1.0);
-  std::uniform_int_distribution<int> kind(0, 5);
-  const double r = 0.009;
-  Eigen::Matrix3Xd x(3, 16);
+// What rule_out_rounds saw: the pairs in general position farther than 1.01 r, and how many of
+// them the lanes ruled out.
+struct RuledOut {
   int far = 0, ruled_out = 0;
+};
+
+// 50 000 rounds of four pairs, each placed by place(rng, its four points), which says whether
+// it is in general position, and ruled out in lanes by apart(): none ruled out may be nearer
+// than r by pair_gap().
+template <class Place>
+RuledOut rule_out_rounds(unsigned seed, bool vertex_triangle, decltype(&edges_apart_avx2) apart, double r, Place place) {
+  std::mt19937 rng(seed);
+  Eigen::Matrix3Xd x(3, 16);
+  RuledOut seen;
   std::array<bool, 4> general{};
   for (int round = 0; round < 50000; ++round) {
     std::array<std::array<std::uint32_t, 4>, 4> pairs;
     for (std::uint32_t k = 0; k < 4; ++k) {
       pairs[k] = {4 * k, 4 * k + 1, 4 * k + 2, 4 * k + 3};
-      const Eigen::Vector3d p0(at(rng), at(rng), at(rng)), d(unit(rng), unit(rng), unit(rng));
-      Eigen::Vector3d p1 = p0 + 0.012 * d.normalized(), p2(at(rng), at(rng), at(rng)), p3(at(rng), at(rng), at(rng));
-      const int shape = kind(rng);
-      general[k] = shape > 3;
-      switch (shape) {
-        case 0: p3 = p2 + (p1 - p0) * (0.5 + std::abs(unit(rng))); break;  // (parallel)
-        case 1: p2 = p0 + 0.3 * (p1 - p0), p3 = p0 + 1.7 * (p1 - p0); break;  // (on one line)
-        case 2: p1 = p0; break;  // (zero length)
-        case 3: p3 = p2 + (p1 - p0) + Eigen::Vector3d(1e-9, 0, 0); break;  // (nearly parallel)
-        default: break;
-      }
-      x.col(4 * k) = p0, x.col(4 * k + 1) = p1, x.col(4 * k + 2) = p2, x.col(4 * k + 3) = p3;
+      std::array<Eigen::Vector3d, 4> p;
+      general[k] = place(rng, p);
+      for (std::uint32_t m = 0; m < 4; ++m) x.col(4 * k + m) = p[m];
     }
-    const std::uint32_t apart = edges_apart_avx2(x.data(), pairs.data(), r);
+    const std::uint32_t ruled = apart(x.data(), pairs.data(), r);
     for (std::uint32_t k = 0; k < 4; ++k) {
       double coef[4];
-      const double gap = pair_gap(x, pairs[k].data(), false, coef).norm();
-      if (apart >> k & 1u) {
-        ASSERT_GE(gap, r) << "round " << round << " pair " << k;
+      const double gap = pair_gap(x, pairs[k].data(), vertex_triangle, coef).norm();
+      if ((ruled >> k & 1u) && !(gap >= r)) {
+        ADD_FAILURE() << "round " << round << " pair " << k << " ruled out at " << gap;
+        return seen;
       }
-      if (general[k] && gap > 1.01 * r) ++far, ruled_out += apart >> k & 1u;
+      if (general[k] && gap > 1.01 * r) ++seen.far, seen.ruled_out += ruled >> k & 1u;
     }
   }
-  EXPECT_GT(far, 10000);
-  EXPECT_GE(ruled_out, far * 99 / 100);
+  return seen;
+}
+
+// Random edge pairs around a distance of r, many of them parallel, crossing, sharing a line or
+// of zero length: none ruled out is nearer than r by pair_gap(), and nearly every pair in
+// general position that is farther than 1.01 r is ruled out.
+TEST(SelfLanes, EdgePairsRuledOutInLanesAreFartherThanTheirReach) {
+  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "no AVX2";
+  std::uniform_real_distribution<double> at(-0.02, 0.02), unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> kind(0, 5);
+  const RuledOut seen = rule_out_rounds(11, false, edges_apart_avx2, 0.009, [&](std::mt19937& rng, auto& p) {
+    const Eigen::Vector3d p0(at(rng), at(rng), at(rng)), d(unit(rng), unit(rng), unit(rng));
+    Eigen::Vector3d p1 = p0 + 0.012 * d.normalized(), p2(at(rng), at(rng), at(rng)), p3(at(rng), at(rng), at(rng));
+    const int shape = kind(rng);
+    switch (shape) {
+      case 0: p3 = p2 + (p1 - p0) * (0.5 + std::abs(unit(rng))); break;  // (parallel)
+      case 1: p2 = p0 + 0.3 * (p1 - p0), p3 = p0 + 1.7 * (p1 - p0); break;  // (on one line)
+      case 2: p1 = p0; break;  // (zero length)
+      case 3: p3 = p2 + (p1 - p0) + Eigen::Vector3d(1e-9, 0, 0); break;  // (nearly parallel)
+      default: break;
+    }
+    p = {p0, p1, p2, p3};
+    return shape > 3;
+  });
+  EXPECT_GT(seen.far, 10000);
+  EXPECT_GE(seen.ruled_out, seen.far * 99 / 100);
 }
 
 // Random masses around random triangles, within about 2 r of them, some triangles slivers or
@@ -194,43 +213,25 @@ TEST(SelfLanes, EdgePairsRuledOutInLanesAreFartherThanTheirReach) {
 // distance itself but beyond a corner, where a sharp corner weakens it; 95 % here).
 TEST(SelfLanes, MassTrianglePairsRuledOutInLanesAreFartherThanTheirReach) {
   if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "no AVX2";
-  std::mt19937 rng(13);
-  std::uniform_real_distribution<double> at(-0.01, 0.01), unit(-1.0, 1.0);
+  std::uniform_real_distribution<double> at(-0.01, 0.01);
   std::uniform_int_distribution<int> kind(0, 5);
-  const double r = 0.009;
-  Eigen::Matrix3Xd x(3, 16);
-  int far = 0, ruled_out = 0;
-  std::array<bool, 4> general{};
-  for (int round = 0; round < 50000; ++round) {
-    std::array<std::array<std::uint32_t, 4>, 4> pairs;
-    for (std::uint32_t k = 0; k < 4; ++k) {
-      pairs[k] = {4 * k, 4 * k + 1, 4 * k + 2, 4 * k + 3};
-      const Eigen::Vector3d a(at(rng), at(rng), at(rng));
-      Eigen::Vector3d b = a + Eigen::Vector3d(at(rng), at(rng), at(rng)), c = a + Eigen::Vector3d(at(rng), at(rng), at(rng));
-      Eigen::Vector3d v = a + 2.0 * Eigen::Vector3d(at(rng), at(rng), at(rng));
-      const int shape = kind(rng);
-      general[k] = shape > 2;
-      switch (shape) {
-        case 0: c = a + 0.4 * (b - a) + Eigen::Vector3d(0, 1e-12, 0); break;  // (a sliver)
-        case 1: b = a, c = a; break;  // (a point)
-        case 2: c = b; break;  // (a segment)
-        case 3: v = a + 0.7 * (b - a) + 0.9 * (c - a); break;  // (in the plane, beyond an edge)
-        default: break;
-      }
-      x.col(4 * k) = v, x.col(4 * k + 1) = a, x.col(4 * k + 2) = b, x.col(4 * k + 3) = c;
+  const RuledOut seen = rule_out_rounds(13, true, masses_apart_avx2, 0.009, [&](std::mt19937& rng, auto& p) {
+    const Eigen::Vector3d a(at(rng), at(rng), at(rng));
+    Eigen::Vector3d b = a + Eigen::Vector3d(at(rng), at(rng), at(rng)), c = a + Eigen::Vector3d(at(rng), at(rng), at(rng));
+    Eigen::Vector3d v = a + 2.0 * Eigen::Vector3d(at(rng), at(rng), at(rng));
+    const int shape = kind(rng);
+    switch (shape) {
+      case 0: c = a + 0.4 * (b - a) + Eigen::Vector3d(0, 1e-12, 0); break;  // (a sliver)
+      case 1: b = a, c = a; break;  // (a point)
+      case 2: c = b; break;  // (a segment)
+      case 3: v = a + 0.7 * (b - a) + 0.9 * (c - a); break;  // (in the plane, beyond an edge)
+      default: break;
     }
-    const std::uint32_t apart = masses_apart_avx2(x.data(), pairs.data(), r);
-    for (std::uint32_t k = 0; k < 4; ++k) {
-      double coef[4];
-      const double gap = pair_gap(x, pairs[k].data(), true, coef).norm();
-      if (apart >> k & 1u) {
-        ASSERT_GE(gap, r) << "round " << round << " pair " << k;
-      }
-      if (general[k] && gap > 1.01 * r) ++far, ruled_out += apart >> k & 1u;
-    }
-  }
-  EXPECT_GT(far, 10000);
-  EXPECT_GE(ruled_out, far * 9 / 10);
+    p = {v, a, b, c};
+    return shape > 2;
+  });
+  EXPECT_GT(seen.far, 10000);
+  EXPECT_GE(seen.ruled_out, seen.far * 9 / 10);
 }
 #endif
 
