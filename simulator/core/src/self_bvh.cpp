@@ -18,8 +18,8 @@ struct Builder {
   const double* x;
   std::vector<std::array<double, 3>> centre;
 
-  // (each split leaves at most half the count plus a leaf on each side: every leaf holds at
-  // most kLeaf primitives, and the depth stays under 40)
+  // (the left part takes half the count rounded up to whole leaves, at most kLeaf more than
+  // half: every leaf holds at most kLeaf primitives, and the depth stays under 40)
   std::uint32_t node(std::uint32_t first, std::uint32_t count) {
     const auto self = static_cast<std::uint32_t>(t.nodes.size());
     t.nodes.push_back({});

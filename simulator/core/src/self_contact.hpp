@@ -86,7 +86,7 @@ struct SelfScratch {
   std::size_t built_vt = 0, built_ee = 0;  ///< how many of each list the build found; those after were found late
   std::unordered_set<std::uint64_t> late;  ///< the pairs found late (kind, primitives)
   std::uint64_t build_work = 0;   ///< the node pairs and pairs the last build tested
-  std::uint64_t check_work = 0;   ///< the node pairs and pairs the checks have tested since
+  std::uint64_t check_work = 0;   ///< the node pairs and pairs the checks have tested since (the front's entries weighted: self_check.cpp)
   Eigen::Matrix3Xd xc;            ///< (3 x n) the positions at the last check that the lists hold
   double slack = 0.0;             ///< m, how much more two masses may have moved apart since xc with the lists holding
   Eigen::Matrix3Xd dl;            ///< (3 x n) each mass's move since xl, at the last detection
