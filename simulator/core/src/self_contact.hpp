@@ -94,7 +94,7 @@ struct SelfScratch {
   std::vector<std::array<double, 6>> node_moved, triangle_moved, edge_moved;  ///< (each tree's nodes) the box of their masses' moves since xl
   /// Where the check's descent stopped (self_check.cpp): a node pair, and how far apart its two
   /// nodes' masses may have moved since xl with its pairs still clear (-inf: yet to descend).
-  /// The next check tests these and descends again only under those they no longer clear.
+  /// The next check tests these and descends again only under those past their limit.
   struct FrontEntry {
     SelfBvh::NodePair np;
     double limit;
