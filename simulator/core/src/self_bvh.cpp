@@ -3,6 +3,8 @@
 // order so that a refit runs backwards once.
 #include "self_bvh.hpp"
 
+#include "parallel.hpp"
+
 #include <algorithm>
 #include <limits>
 
@@ -49,7 +51,7 @@ struct Builder {
 
 }  // namespace
 
-void SelfBvh::build(const double* x, std::span<const std::uint32_t> prim_corners, int corners_per_prim) {
+void SelfBvh::build(const double* x, std::span<const std::uint32_t> prim_corners, int corners_per_prim, int nt) {
   corners = prim_corners;
   k = corners_per_prim;
   const std::size_t n = corners.size() / static_cast<std::size_t>(k);
@@ -66,7 +68,7 @@ void SelfBvh::build(const double* x, std::span<const std::uint32_t> prim_corners
   nodes.reserve(2 * n / kLeaf + 2);
   if (n > 0) b.node(0, static_cast<std::uint32_t>(n));
   index_leaves();
-  refit(x);
+  refit(x, nt);
 }
 
 void SelfBvh::index_leaves() {
@@ -88,6 +90,32 @@ void SelfBvh::index_leaves() {
     mass_start.push_back(static_cast<std::uint32_t>(leaf_masses.size()));
   }
   lanes.resize(leaves);
+  find_parts();
+}
+
+void SelfBvh::run_parts(int nt, void* f, void (*run)(void*, std::uint32_t, std::uint32_t)) const {
+  parallel_for_dynamic(nt, static_cast<std::int64_t>(parts.size()), [&](std::int64_t p) {
+    run(f, parts[static_cast<std::size_t>(p)][0], parts[static_cast<std::size_t>(p)][1]);
+  });
+}
+
+void SelfBvh::find_parts() {
+  parts.clear(), tops.clear();
+  if (nodes.empty()) return;
+  std::vector<std::array<std::uint32_t, 2>> stack{{0, 0}};  // (node, depth)
+  while (!stack.empty()) {
+    const auto [i, depth] = stack.back();
+    stack.pop_back();
+    if (right[i] == 0 || depth == kPartDepth) {
+      std::uint32_t last = i;  // (a subtree's last node is its rightmost leaf)
+      while (right[last] != 0) last = right[last];
+      parts.push_back({i, last + 1});
+    } else {
+      tops.push_back(i);
+      stack.push_back({right[i], depth + 1}), stack.push_back({i + 1, depth + 1});
+    }
+  }
+  std::sort(tops.begin(), tops.end());
 }
 
 void SelfBvh::fill_lanes(Lanes& l, const Node& leaf) const {
@@ -110,10 +138,10 @@ std::uint32_t SelfBvh::leaf_meets(const Lanes& a, std::uint32_t count, const Lan
   return hits;
 }
 
-void SelfBvh::refit(const double* x) {
+void SelfBvh::refit(const double* x, int nt) {
   const auto kk = static_cast<std::size_t>(k);
   box.resize(order.size());
-  for (std::size_t i = nodes.size(); i-- > 0;) {
+  bottom_up(nt, [&](std::uint32_t i) {
     Node& nd = nodes[i];
     if (nd.count > 0) {
       nd.lo.fill(std::numeric_limits<double>::infinity()), nd.hi.fill(-std::numeric_limits<double>::infinity());
@@ -133,7 +161,7 @@ void SelfBvh::refit(const double* x) {
       const Node& r = nodes[nd.next];
       for (int a = 0; a < 3; ++a) nd.lo[a] = std::min(l.lo[a], r.lo[a]), nd.hi[a] = std::max(l.hi[a], r.hi[a]);
     }
-  }
+  });
 }
 
 std::vector<SelfBvh::NodePair> SelfBvh::join_tasks(const SelfBvh& other, double r, std::size_t want) const {

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 namespace clothsim::detail {
@@ -39,13 +40,34 @@ struct SelfBvh {
   };
   std::vector<Lanes> lanes;               ///< per leaf, at lane_slot[node]
   std::vector<std::uint32_t> lane_slot;  ///< (nodes) each leaf's place in `lanes`
+  /// The subtrees kPartDepth levels down (or leaves above that), each its nodes' range
+  /// [begin, end), and the inner nodes above them (`tops`, ascending): bottom_up's shares.
+  static constexpr int kPartDepth = 5;
+  std::vector<std::array<std::uint32_t, 2>> parts;
+  std::vector<std::uint32_t> tops;
 
-  /// Builds the tree over primitives of k corners (3: triangles, 2: edges) at positions x (3 n).
-  void build(const double* x, std::span<const std::uint32_t> prim_corners, int corners_per_prim);
-  /// Lists each leaf's masses (mass_start, leaf_masses) and places its lanes (lane_slot).
+  /// Builds the tree over primitives of k corners (3: triangles, 2: edges) at positions x (3 n),
+  /// refitting on nt threads.
+  void build(const double* x, std::span<const std::uint32_t> prim_corners, int corners_per_prim, int nt = 1);
+  /// Lists each leaf's masses (mass_start, leaf_masses), places its lanes (lane_slot) and
+  /// finds bottom_up's shares.
   void index_leaves();
-  /// Refits every box to positions x.
-  void refit(const double* x);
+  /// Finds bottom_up's shares (parts, tops).
+  void find_parts();
+  /// Refits every box to positions x, on nt threads.
+  void refit(const double* x, int nt = 1);
+  /// Runs node(i) for every node, children before parents: the subtrees of `parts` on nt
+  /// threads, each from its last node back, then the nodes above them. A pass whose node
+  /// reads only its children and its own primitives gives the same bits on any thread count.
+  template <class F>
+  void bottom_up(int nt, F&& node) const {
+    run_parts(nt, &node, [](void* f, std::uint32_t begin, std::uint32_t end) {
+      for (std::uint32_t i = end; i-- > begin;) (*static_cast<std::remove_reference_t<F>*>(f))(i);
+    });
+    for (std::size_t j = tops.size(); j-- > 0;) node(tops[j]);
+  }
+  /// Runs run(f, begin, end) for every part on nt threads (self_bvh.cpp: the threads are the core's).
+  void run_parts(int nt, void* f, void (*run)(void*, std::uint32_t, std::uint32_t)) const;
   /// Copies a leaf's primitive boxes into its lanes.
   void fill_lanes(Lanes& l, const Node& leaf) const;
 

@@ -6,21 +6,22 @@
 #include "parallel.hpp"
 #include "self_moves.hpp"
 
+#include <array>
 #include <atomic>
 #include <limits>
 
 namespace clothsim::detail {
 
-void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& moves) {
+void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& moves, int nt) {
   moves.resize(t.nodes.size());
   constexpr double inf = std::numeric_limits<double>::infinity();
   const double* dl = sc.dl.data();
-  for (std::size_t i = t.nodes.size(); i-- > 0;) {
+  t.bottom_up(nt, [&](std::uint32_t i) {
     Box& b = moves[i];
     if (t.right[i] != 0) {
       const Box &l = moves[i + 1], &r = moves[t.right[i]];
       for (int a = 0; a < 3; ++a) b[a] = std::min(l[a], r[a]), b[a + 3] = std::max(l[a + 3], r[a + 3]);
-      continue;
+      return;
     }
     double lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
     for (std::uint32_t j = t.mass_start[i]; j < t.mass_start[i + 1]; ++j) {
@@ -28,12 +29,13 @@ void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& move
       for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], d[a]), hi[a] = std::max(hi[a], d[a]);
     }
     b = {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]};
-  }
+  });
 }
 
-void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x) {
-  sc.dl = x - sc.xl;
-  bound_moves(sc, sc.mass_tree, sc.node_moved);
+void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x, int nt) {
+  sc.dl.resize(3, x.cols());
+  parallel_for(nt, x.cols(), [&](std::int64_t i) { sc.dl.col(i) = x.col(i) - sc.xl.col(i); });
+  bound_moves(sc, sc.mass_tree, sc.node_moved, nt);
 }
 
 std::uint32_t leaf_clears(const SelfBvh::Lanes& a, std::uint32_t count, const SelfBvh::Lanes& b, const LeafCheck& c,
@@ -261,20 +263,32 @@ bool pairs_hold(SelfScratch& sc, std::vector<FrontEntry>& front, const SelfBvh& 
 // check while no two masses have moved apart by the last check's slack since it.
 bool candidates_hold(const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace& ws) {
   constexpr double inf = std::numeric_limits<double>::infinity();
-  Box since = {inf, inf, inf, -inf, -inf, -inf};
-  for (std::uint32_t i : sc.faced_masses) {
-    const Eigen::Vector3d d = x.col(i) - sc.xc.col(i);
-    for (int a = 0; a < 3; ++a) since[a] = std::min(since[a], d[a]), since[a + 3] = std::max(since[a + 3], d[a]);
-  }
-  bound_moves(sc, x);
+  const int nt = team(ws, sc.faced_masses.size());
+  // The box of the masses' moves since the last check: the union of kShares shares' boxes.
+  constexpr std::size_t kShares = 16;
+  std::array<Box, kShares> shares;
+  const std::size_t masses = sc.faced_masses.size();
+  parallel_for(nt, std::int64_t{kShares}, [&](std::int64_t s) {
+    const auto share = static_cast<std::size_t>(s);
+    Box& b = shares[share] = {inf, inf, inf, -inf, -inf, -inf};
+    for (std::size_t k = masses * share / kShares; k < masses * (share + 1) / kShares; ++k) {
+      const auto i = static_cast<Eigen::Index>(sc.faced_masses[k]);
+      const Eigen::Vector3d d = x.col(i) - sc.xc.col(i);
+      for (int a = 0; a < 3; ++a) b[a] = std::min(b[a], d[a]), b[a + 3] = std::max(b[a + 3], d[a]);
+    }
+  });
+  Box since = shares[0];
+  for (const Box& b : shares)
+    for (int a = 0; a < 3; ++a) since[a] = std::min(since[a], b[a]), since[a + 3] = std::max(since[a + 3], b[a + 3]);
+  bound_moves(sc, x, nt);
   if (apart(since, since) < sc.slack) return true;
   sc.xc = x;
   sc.slack = sc.skin - apart(sc.node_moved[0], sc.node_moved[0]);
   if (sc.slack >= 0.0) return true;  // (no two masses moved apart by more than the skin)
   sc.slack = inf;
-  bound_moves(sc, sc.triangle_tree, sc.triangle_moved);
+  bound_moves(sc, sc.triangle_tree, sc.triangle_moved, team(ws, sc.triangles.size() / 3));
   if (!pairs_hold(sc, sc.front_vt, sc.mass_tree, sc.node_moved, sc.triangle_tree, sc.triangle_moved, ws)) return false;
-  bound_moves(sc, sc.edge_tree, sc.edge_moved);
+  bound_moves(sc, sc.edge_tree, sc.edge_moved, team(ws, sc.edges.size() / 2));
   return pairs_hold(sc, sc.front_ee, sc.edge_tree, sc.edge_moved, sc.edge_tree, sc.edge_moved, ws);
 }
 

@@ -142,13 +142,13 @@ void measure_reach(SelfScratch& sc) {
 void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace& ws) {
   const bool rebuild = sc.builds++ % 8 == 0;  // the trees follow the cloth's shape: rebuilt now and then
   if (rebuild) {
-    sc.mass_tree.build(x.data(), sc.faced_masses, 1);
-    sc.triangle_tree.build(x.data(), sc.triangles, 3);
-    sc.edge_tree.build(x.data(), sc.edges, 2);
+    sc.mass_tree.build(x.data(), sc.faced_masses, 1, team(ws, sc.faced_masses.size()));
+    sc.triangle_tree.build(x.data(), sc.triangles, 3, team(ws, sc.triangles.size() / 3));
+    sc.edge_tree.build(x.data(), sc.edges, 2, team(ws, sc.edges.size() / 2));
   } else {
-    sc.mass_tree.refit(x.data());
-    sc.triangle_tree.refit(x.data());
-    sc.edge_tree.refit(x.data());
+    sc.mass_tree.refit(x.data(), team(ws, sc.faced_masses.size()));
+    sc.triangle_tree.refit(x.data(), team(ws, sc.triangles.size() / 3));
+    sc.edge_tree.refit(x.data(), team(ws, sc.edges.size() / 2));
   }
   const double r = sc.far + sc.skin;
   const std::size_t work = 4 * m.mass_count();
@@ -182,15 +182,18 @@ void build_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc
 
 // Each mass's bound on how much the gaps of its candidates have changed since xl: the most
 // the masses of its cluster and of its cluster's neighbours have moved apart.
-void bound_gap_changes(SelfScratch& sc) {
+void bound_gap_changes(SelfScratch& sc, const Workspace& ws) {
   sc.cluster_moved.resize(sc.cluster_node.size());
-  for (std::size_t c = 0; c < sc.cluster_node.size(); ++c) {
+  parallel_for(team(ws, sc.near.size()), static_cast<std::int64_t>(sc.cluster_node.size()), [&](std::int64_t c) {
     double most = 0.0;
     for (std::uint32_t k = sc.near_first[c]; k < sc.near_first[c + 1]; ++k)
       most = std::max(most, apart(sc.node_moved[sc.cluster_node[c]], sc.node_moved[sc.cluster_node[sc.near[k]]]));
-    sc.cluster_moved[c] = most;
-  }
-  for (std::uint32_t i : sc.faced_masses) sc.moved[i] = sc.cluster_moved[sc.cluster_of[i]];
+    sc.cluster_moved[static_cast<std::size_t>(c)] = most;
+  });
+  parallel_for(team(ws, sc.faced_masses.size()), static_cast<std::int64_t>(sc.faced_masses.size()), [&](std::int64_t k) {
+    const std::uint32_t i = sc.faced_masses[static_cast<std::size_t>(k)];
+    sc.moved[i] = sc.cluster_moved[sc.cluster_of[i]];
+  });
 }
 
 // How much a candidate's gap can have changed since xl: the most two of its masses, one of
@@ -248,11 +251,11 @@ void order_active(SelfScratch& sc) {
 void find_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace& ws) {
   if (sc.xl.cols() != x.cols() || !candidates_hold(x, sc, ws)) {  // (the check bounds the moves)
     build_candidates(m, x, sc, ws);
-    bound_moves(sc, x);
+    bound_moves(sc, x, team(ws, sc.faced_masses.size()));
     sc.xc = x;
     sc.slack = sc.skin;
   }
-  bound_gap_changes(sc);
+  bound_gap_changes(sc, ws);
   // The candidates that may now be within `far`, all those of a pin that moves: a few runs of
   // the lists, each on a thread; their parts join in order.
   const auto pairs = static_cast<std::uint32_t>(sc.cand_vt.size() + sc.cand_ee.size());

@@ -40,10 +40,10 @@ inline double node_distance(const SelfBvh::Node& a, const SelfBvh::Node& b) {
 /// Mass i's move since xl (as of the last bound_moves).
 inline auto move_of(const SelfScratch& sc, std::uint32_t i) { return sc.dl.col(i); }
 
-/// Each node of tree t: the box of its primitives' masses' moves since xl (sc.dl).
-void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& moves);
-/// The masses' moves since xl at x (sc.dl) and the boxes of the masses' tree.
-void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x);
+/// Each node of tree t: the box of its primitives' masses' moves since xl (sc.dl), on nt threads.
+void bound_moves(const SelfScratch& sc, const SelfBvh& t, std::vector<Box>& moves, int nt);
+/// The masses' moves since xl at x (sc.dl) and the boxes of the masses' tree, on nt threads.
+void bound_moves(SelfScratch& sc, const Eigen::Matrix3Xd& x, int nt);
 
 /// A leaf pair of the check at once: its primitives' pairs whose masses cannot have come within
 /// `far` unlisted, by the leaves' largest relative move `moved` (the most two of their masses,
