@@ -1,6 +1,6 @@
-// The self-contact trees' bottom-up passes: their shares hold every node once, and a refit on
-// two threads gives every node the box one thread gives, the union of its children's or its
-// primitives' boxes. White-box: the stage's private headers.
+// The self-contact trees on threads: the bottom-up passes' shares hold every node once; a
+// build and a refit on two threads give the tree one thread gives, every node's box the union
+// of its children's or its primitives' boxes. White-box: the stage's private headers.
 #include "self_bvh.hpp"
 
 #include <gtest/gtest.h>
@@ -48,7 +48,7 @@ TEST(SelfBvh, PartsAndTopsHoldEveryNodeOnce) {
   }
 }
 
-TEST(SelfBvh, RefitOnTwoThreadsGivesEveryNodeTheUnionOfItsParts) {
+TEST(SelfBvh, BuildAndRefitOnTwoThreadsGiveOneThreadsTreeWithEveryNodeTheUnionOfItsParts) {
   const Sheet s = sheet(120, 1);  // (28 322 triangles: kPartDepth levels of parts)
   SelfBvh one, two;
   one.build(s.x.data(), s.triangles, 3);
@@ -60,8 +60,12 @@ TEST(SelfBvh, RefitOnTwoThreadsGivesEveryNodeTheUnionOfItsParts) {
   one.refit(moved.data(), 1);
   two.refit(moved.data(), 2);
   ASSERT_EQ(one.nodes.size(), two.nodes.size());
+  ASSERT_EQ(one.order, two.order);
   for (std::size_t i = 0; i < one.nodes.size(); ++i) {
     const SelfBvh::Node &a = one.nodes[i], &b = two.nodes[i];
+    ASSERT_EQ(a.next, b.next) << "node " << i;
+    ASSERT_EQ(a.first, b.first) << "node " << i;
+    ASSERT_EQ(a.count, b.count) << "node " << i;
     ASSERT_EQ(std::memcmp(a.lo.data(), b.lo.data(), sizeof a.lo), 0) << "node " << i;
     ASSERT_EQ(std::memcmp(a.hi.data(), b.hi.data(), sizeof a.hi), 0) << "node " << i;
     std::array<double, 3> lo, hi;

@@ -15,20 +15,26 @@ namespace {
 constexpr std::uint32_t kLeaf = 4;
 static_assert(kLeaf <= 4, "a leaf's boxes fill one set of four lanes (SelfBvh::Lanes)");
 
+/// The build splits the top this many levels on one thread, then builds the subtrees below
+/// on the threads, each into its own nodes, and joins them in depth-first order.
+constexpr int kBuildSplitDepth = 3;
+
 struct Builder {
   SelfBvh& t;
-  const double* x;
   std::vector<std::array<double, 3>> centre;
+  /// The top levels in depth-first order: a node split there (job -1) or a subtree to build.
+  struct Item {
+    std::uint32_t first, count;
+    int job;
+  };
+  std::vector<Item> items;
+  std::vector<std::vector<SelfBvh::Node>> jobs;
 
-  // (the left part takes half the count rounded up to whole leaves, at most kLeaf more than
-  // half: every leaf holds at most kLeaf primitives, and the depth stays under 40)
-  std::uint32_t node(std::uint32_t first, std::uint32_t count) {
-    const auto self = static_cast<std::uint32_t>(t.nodes.size());
-    t.nodes.push_back({});
-    if (count <= kLeaf) {
-      t.nodes[self].first = first, t.nodes[self].count = count;
-      return self;
-    }
+  // Orders order[first .. first + count) about its split along the longest axis of the
+  // centroids and returns the left part's count: half the count rounded up to whole leaves,
+  // at most kLeaf more than half (every leaf holds at most kLeaf primitives, and the depth
+  // stays under 40).
+  std::uint32_t split(std::uint32_t first, std::uint32_t count) {
     std::array<double, 3> lo, hi;
     lo.fill(std::numeric_limits<double>::infinity()), hi.fill(-std::numeric_limits<double>::infinity());
     for (std::uint32_t i = first; i < first + count; ++i)
@@ -42,8 +48,52 @@ struct Builder {
     std::nth_element(b, b + half, b + count, [&](std::uint32_t p, std::uint32_t q) {
       return centre[p][axis] < centre[q][axis] || (centre[p][axis] == centre[q][axis] && p < q);
     });
-    node(first, half);
-    const std::uint32_t right = node(first + half, count - half);
+    return half;
+  }
+
+  // The subtree over order[first .. first + count) into `out`, its nodes' `next` counted from
+  // out's start; returns its root.
+  std::uint32_t node(std::vector<SelfBvh::Node>& out, std::uint32_t first, std::uint32_t count) {
+    const auto self = static_cast<std::uint32_t>(out.size());
+    out.push_back({});
+    if (count <= kLeaf) {
+      out[self].first = first, out[self].count = count;
+      return self;
+    }
+    const std::uint32_t half = split(first, count);
+    node(out, first, half);
+    const std::uint32_t right = node(out, first + half, count - half);
+    out[self].next = right;
+    return self;
+  }
+
+  // Splits the top levels (items), leaving the subtrees below kBuildSplitDepth as jobs.
+  void plan(std::uint32_t first, std::uint32_t count, int depth) {
+    if (depth == kBuildSplitDepth || count <= kLeaf) {
+      items.push_back({first, count, static_cast<int>(jobs.size())});
+      jobs.emplace_back();
+      return;
+    }
+    items.push_back({first, count, -1});
+    const std::uint32_t half = split(first, count);
+    plan(first, half, depth + 1);
+    plan(first + half, count - half, depth + 1);
+  }
+
+  // Appends items[k ..]'s subtree to the tree's nodes; returns its root.
+  std::uint32_t join(std::size_t& k) {
+    const Item it = items[k++];
+    const auto self = static_cast<std::uint32_t>(t.nodes.size());
+    if (it.job >= 0) {
+      for (SelfBvh::Node nd : jobs[static_cast<std::size_t>(it.job)]) {
+        if (nd.count == 0) nd.next += self;
+        t.nodes.push_back(nd);
+      }
+      return self;
+    }
+    t.nodes.push_back({});
+    join(k);
+    const std::uint32_t right = join(k);
     t.nodes[self].next = right;
     return self;
   }
@@ -58,15 +108,25 @@ void SelfBvh::build(const double* x, std::span<const std::uint32_t> prim_corners
   nodes.clear();
   order.resize(n);
   for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
-  Builder b{*this, x, std::vector<std::array<double, 3>>(n)};
-  for (std::size_t p = 0; p < n; ++p)
-    for (int a = 0; a < 3; ++a) {
+  Builder b{*this, std::vector<std::array<double, 3>>(n), {}, {}};
+  parallel_for(nt, static_cast<std::int64_t>(n), [&](std::int64_t i) {
+    const auto p = static_cast<std::size_t>(i);
+    for (std::size_t a = 0; a < 3; ++a) {
       double s = 0.0;
-      for (int c = 0; c < k; ++c) s += x[3 * std::size_t{corners[p * static_cast<std::size_t>(k) + static_cast<std::size_t>(c)]} + static_cast<std::size_t>(a)];
-      b.centre[p][static_cast<std::size_t>(a)] = s / k;
+      for (std::size_t c = 0; c < static_cast<std::size_t>(k); ++c) s += x[3 * std::size_t{corners[p * static_cast<std::size_t>(k) + c]} + a];
+      b.centre[p][a] = s / k;
     }
+  });
   nodes.reserve(2 * n / kLeaf + 2);
-  if (n > 0) b.node(0, static_cast<std::uint32_t>(n));
+  if (n > 0) {
+    b.plan(0, static_cast<std::uint32_t>(n), 0);
+    parallel_for_dynamic(nt, static_cast<std::int64_t>(b.items.size()), [&](std::int64_t i) {
+      const Builder::Item& it = b.items[static_cast<std::size_t>(i)];
+      if (it.job >= 0) b.node(b.jobs[static_cast<std::size_t>(it.job)], it.first, it.count);
+    });
+    std::size_t at = 0;
+    b.join(at);
+  }
   index_leaves();
   refit(x, nt);
 }

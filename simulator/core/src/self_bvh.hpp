@@ -61,8 +61,13 @@ struct SelfBvh {
   /// reads only its children and its own primitives gives the same bits on any thread count.
   template <class F>
   void bottom_up(int nt, F&& node) const {
+    if (nt <= 1) {  // (every node from the last: children follow their parents)
+      for (auto i = static_cast<std::uint32_t>(nodes.size()); i-- > 0;) node(i);
+      return;
+    }
     run_parts(nt, &node, [](void* f, std::uint32_t begin, std::uint32_t end) {
-      for (std::uint32_t i = end; i-- > begin;) (*static_cast<std::remove_reference_t<F>*>(f))(i);
+      auto each = *static_cast<std::remove_reference_t<F>*>(f);  // (a copy the loop keeps in registers)
+      for (std::uint32_t i = end; i-- > begin;) each(i);
     });
     for (std::size_t j = tops.size(); j-- > 0;) node(tops[j]);
   }
