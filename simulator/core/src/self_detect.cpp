@@ -124,13 +124,15 @@ void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, 
   const Eigen::Matrix3Xd& x = state.x;
   // A pinned mass moves as its pin does (its speed over the step: a pin that turns); the free
   // masses of its pairs take what is left of the gap. A moving pin asks for a detection every step.
-  sc.pins_move = false;
-  for (std::size_t i = 0; i < m.mass_count(); ++i) {
-    const double move = m.pinned[i] ? kSelfLookAhead * h * state.v.col(static_cast<Eigen::Index>(i)).norm() : 0.0;
-    sc.pin_move[i] = move;
-    sc.pins_move = sc.pins_move || move > 0.0;
-    sc.bound[i] = sc.in_face[i] && !m.pinned[i] ? sc.radius : std::numeric_limits<double>::infinity();
-  }
+  const int nt = team(ws, m.mass_count());
+  const auto n = static_cast<std::int64_t>(m.mass_count());
+  sc.pins_move = parallel_any(nt, n, [&](std::int64_t i) {
+    const auto k = static_cast<std::size_t>(i);
+    const double move = m.pinned[k] ? kSelfLookAhead * h * state.v.col(i).norm() : 0.0;
+    sc.pin_move[k] = move;
+    sc.bound[k] = sc.in_face[k] && !m.pinned[k] ? sc.radius : std::numeric_limits<double>::infinity();
+    return move > 0.0;
+  });
   find_candidates(m, x, sc, ws);
   measure(m, sc, x, ws);
   sc.pin_room = std::numeric_limits<double>::infinity(), sc.overrun_pairs = 0;
@@ -146,9 +148,11 @@ void detect_self(const Model& m, const State& state, double h, SelfScratch& sc, 
     for (std::uint32_t i : p.mass)
       if (!m.pinned[i]) sc.bound[i] = std::min(sc.bound[i], std::max(0.0, room));
   }
-  for (std::size_t i = 0; i < m.mass_count(); ++i) sc.bound[i] *= kSelfGamma;
+  parallel_for(nt, n, [&](std::int64_t i) {
+    sc.bound[static_cast<std::size_t>(i)] *= kSelfGamma;
+    sc.xd.col(i) = x.col(i);
+  });
   keep_reachable(sc);
-  sc.xd = x;
   sc.shift.setZero(), sc.drift.setZero();
   sc.follow = sc.common && ws.last_contacts == 0;
   sc.detect = false;

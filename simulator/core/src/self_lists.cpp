@@ -110,11 +110,13 @@ void link_clusters(SelfScratch& sc) {
       t.descend(t, {a, b}, ca != kNoCluster, cb != kNoCluster, stack);
     }
   }
-  std::sort(links.begin(), links.end());
+  // (grouped by their first cluster, a counting sort: only each cluster's set matters)
   sc.near_first.assign(sc.cluster_node.size() + 1, 0);
-  sc.near.resize(links.size());
-  for (std::size_t k = 0; k < links.size(); ++k) ++sc.near_first[links[k][0] + 1], sc.near[k] = links[k][1];
+  for (const auto& l : links) ++sc.near_first[l[0] + 1];
   for (std::size_t c = 0; c + 1 < sc.near_first.size(); ++c) sc.near_first[c + 1] += sc.near_first[c];
+  sc.near.resize(links.size());
+  std::vector<std::uint32_t> at(sc.near_first.begin(), sc.near_first.end() - 1);
+  for (const auto& l : links) sc.near[at[l[0]]++] = l[1];
 }
 
 // Each mass's longest edge at xl, and each node's of the masses' tree: no point of an element
