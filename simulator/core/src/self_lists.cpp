@@ -226,13 +226,15 @@ bool may_be_near(const SelfScratch& sc, std::uint32_t j) {
 // order, region by region, the twist scene's strain runs away after 4 s: measured), then by
 // their masses, an order that does not depend on when the lists were built. A counting sort by
 // lowest mass, then each mass's few pairs sorted, each with its masses at hand.
-void order_active(SelfScratch& sc) {
+void order_active(SelfScratch& sc, const Workspace& ws) {
   auto& keyed = sc.keyed;
   keyed.resize(sc.active.size());
-  for (std::size_t k = 0; k < sc.active.size(); ++k) {
+  const int nt = team(ws, sc.active.size());
+  parallel_for(nt, static_cast<std::int64_t>(sc.active.size()), [&](std::int64_t i) {
+    const auto k = static_cast<std::size_t>(i);
     const std::uint32_t* q = candidate(sc, sc.active[k]).mass;
     keyed[k] = {{q[0], q[1], q[2], q[3]}, sc.active[k]};
-  }
+  });
   const auto lowest = [](const SelfScratch::Keyed& e) { return std::min({e.mass[0], e.mass[1], e.mass[2], e.mass[3]}); };
   auto& at = sc.order_at;
   at.assign(sc.in_face.size() + 1, 0);  // (one place per mass, and the end)
@@ -243,9 +245,13 @@ void order_active(SelfScratch& sc) {
   for (const auto& e : keyed) ordered[at[lowest(e)]++] = e;  // (then at[i] ends mass i's pairs)
   const auto by_masses = [](const SelfScratch::Keyed& a, const SelfScratch::Keyed& b) { return a.mass < b.mass; };
   const auto place = [&](std::size_t k) { return ordered.begin() + static_cast<std::ptrdiff_t>(k); };
-  for (std::size_t i = 0, begin = 0; i + 1 < at.size(); begin = at[i++])
-    if (at[i] - begin > 1) std::sort(place(begin), place(at[i]), by_masses);
-  for (std::size_t k = 0; k < ordered.size(); ++k) sc.active[k] = ordered[k].j;
+  parallel_for(nt, static_cast<std::int64_t>(at.size() - 1), [&](std::int64_t i) {
+    const std::size_t begin = i == 0 ? 0 : at[static_cast<std::size_t>(i) - 1], end = at[static_cast<std::size_t>(i)];
+    if (end - begin > 1) std::sort(place(begin), place(end), by_masses);
+  });
+  parallel_for(nt, static_cast<std::int64_t>(ordered.size()), [&](std::int64_t k) {
+    sc.active[static_cast<std::size_t>(k)] = ordered[static_cast<std::size_t>(k)].j;
+  });
 }
 
 }  // namespace
@@ -272,7 +278,7 @@ void find_candidates(const Model& m, const Eigen::Matrix3Xd& x, SelfScratch& sc,
   });
   sc.active.clear();
   for (const auto& c : sc.chosen) sc.active.insert(sc.active.end(), c.begin(), c.end());
-  order_active(sc);
+  order_active(sc, ws);
 }
 
 }  // namespace clothsim::detail
