@@ -1,6 +1,7 @@
 // The self-contact BVH: splits along the longest axis of the centroids at half the count
 // rounded up to whole leaves, so that leaves fill their four lanes; nodes in depth-first
-// order so that a refit runs backwards once.
+// order, so that a pass from the last node back meets children before parents (on threads,
+// subtree by subtree).
 #include "self_bvh.hpp"
 
 #include "parallel.hpp"

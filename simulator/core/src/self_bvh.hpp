@@ -47,7 +47,7 @@ struct SelfBvh {
   std::vector<std::uint32_t> tops;
 
   /// Builds the tree over primitives of k corners (3: triangles, 2: edges) at positions x (3 n),
-  /// refitting on nt threads.
+  /// the subtrees below the top levels and the refit on nt threads: the same tree on any count.
   void build(const double* x, std::span<const std::uint32_t> prim_corners, int corners_per_prim, int nt = 1);
   /// Lists each leaf's masses (mass_start, leaf_masses), places its lanes (lane_slot) and
   /// finds bottom_up's shares.
@@ -66,7 +66,7 @@ struct SelfBvh {
       return;
     }
     run_parts(nt, &node, [](void* f, std::uint32_t begin, std::uint32_t end) {
-      auto each = *static_cast<std::remove_reference_t<F>*>(f);  // (a copy the loop keeps in registers)
+      auto each = *static_cast<std::remove_reference_t<F>*>(f);
       for (std::uint32_t i = end; i-- > begin;) each(i);
     });
     for (std::size_t j = tops.size(); j-- > 0;) node(tops[j]);
