@@ -284,7 +284,7 @@ bool candidates_hold(const Eigen::Matrix3Xd& x, SelfScratch& sc, const Workspace
       for (int a = 0; a < 3; ++a) b[a] = std::min(b[a], d[a]), b[a + 3] = std::max(b[a + 3], d[a]);
     }
   });
-  Box since = shares[0];
+  Box since = {inf, inf, inf, -inf, -inf, -inf};
   for (const Box& b : shares)
     for (int a = 0; a < 3; ++a) since[a] = std::min(since[a], b[a]), since[a + 3] = std::max(since[a + 3], b[a + 3]);
   bound_moves(sc, x, nt);
